@@ -1,0 +1,47 @@
+# Helpers that give every project target the same flags, and every test the same main.
+
+set(DSM_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wno-psabi)
+
+function(dsm_target_flags target)
+  target_compile_options(${target} PRIVATE ${DSM_WARNINGS})
+  if(DSM_MARCH_NATIVE)
+    target_compile_options(${target} PRIVATE -march=native)
+  endif()
+endfunction()
+
+# dsm_library(NAME <name> SOURCES <files...> DEPS <targets...>)
+# Creates dsm_<name>; headers are included as "dsm/<name>/file.h".
+function(dsm_library)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+  set(target dsm_${ARG_NAME})
+  if(ARG_SOURCES)
+    add_library(${target} STATIC ${ARG_SOURCES})
+    target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR}/src)
+    target_link_libraries(${target} PUBLIC ${ARG_DEPS})
+    dsm_target_flags(${target})
+  else()
+    add_library(${target} INTERFACE)
+    target_include_directories(${target} INTERFACE ${PROJECT_SOURCE_DIR}/src)
+    target_link_libraries(${target} INTERFACE ${ARG_DEPS})
+  endif()
+endfunction()
+
+# dsm_test(<folder>/<name> SOURCES <files...> DEPS <targets...> [LABELS <labels...>])
+# The ctest name is <folder>/<name>; every test links the shared seeded test main.
+function(dsm_test name)
+  if(NOT DSM_BUILD_TESTS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
+  string(REPLACE "/" "_" target ${name})
+  add_executable(${target} ${ARG_SOURCES})
+  target_link_libraries(${target} PRIVATE ${ARG_DEPS} dsm_test_main)
+  dsm_target_flags(${target})
+  add_test(NAME ${name} COMMAND ${target})
+  set(labels unit)
+  if(ARG_LABELS)
+    set(labels ${ARG_LABELS})
+  endif()
+  set_tests_properties(${name} PROPERTIES LABELS "${labels}"
+    ENVIRONMENT "DSM_SHARED_DATA=${DSM_SHARED_DATA_DIR};DSM_BINARY_DIR=${PROJECT_BINARY_DIR}")
+endfunction()
