@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+#include <cstdio>
+
+#include "apps/commands.h"
+#include "dsm/synth/sequence_writer.h"
+
+namespace dsm::cli {
+
+Command AddSynth(CLI::App& app) {
+  auto o = std::make_shared<synth::SynthOptions>();
+  auto out = std::make_shared<std::string>();
+  app.add_option("--scene", o->scene, "loop | shake | forward | rotation | exposure")->required();
+  app.add_option("--out", *out, "Output folder (generic folder format)")->required();
+  app.add_option("--frames", o->frames, "Number of frames (default: the scene's own length)");
+  app.add_option("--seed", o->seed, "Seed of textures and hand-held jitter");
+  app.add_option("--width", o->width, "Image width in pixels");
+  app.add_option("--height", o->height, "Image height in pixels");
+  app.add_option("--rate", o->rate_hz, "Frame rate, Hz");
+  app.add_option("--noise", o->noise_sigma, "Gaussian image noise, grey levels (default 1)");
+  app.add_option("--vignette", o->vignette, "Vignetting strength in the corners, 0..0.8 (writes vignette.png)");
+  app.add_option("--blur", o->blur_sigma, "Gaussian optical blur sigma, pixels");
+  app.add_flag("--depth", o->depth, "Also write per-frame depth maps (depth/*.tiff, metres)");
+  return [o, out] {
+    const synth::SynthSequence seq = synth::MakeSequence(*o);
+    std::printf("rendering scene '%s': %zu frames %dx%d into %s\n", o->scene.c_str(), seq.size(), o->width, o->height,
+                out->c_str());
+    const synth::WriteSummary s = synth::WriteSequence(seq, *o, *out, [](size_t done, size_t total) {
+      if (done % 100 == 0 || done == total) std::printf("  %zu/%zu frames\n", done, total), std::fflush(stdout);
+    });
+    std::printf("done: %zu frames, camera path %.2f m, ray casting %.1f ms per frame\n", s.frames, s.path_length_m,
+                s.render_ms_mean);
+    return 0;
+  };
+}
+
+}  // namespace dsm::cli

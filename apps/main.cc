@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+// `dsm`: direct sparse mapping from the command line. Exit codes: 0 success, 2 bad input
+// (files, calibration, options), 1 an unexpected internal error.
+#include <cstdio>
+#include <exception>
+#include <map>
+
+#include "apps/commands.h"
+#include "dsm/util/check.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"dsm: monocular visual SLAM by Direct Sparse Mapping"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "dsm 0.1.0");
+  std::map<CLI::App*, dsm::cli::Command> commands;
+  const auto add = [&](const char* name, const char* help, auto adder) {
+    CLI::App* sub = app.add_subcommand(name, help);
+    commands[sub] = adder(*sub);
+  };
+  add("info", "Describe a dataset: format, frames, camera, ground truth", dsm::cli::AddInfo);
+  add("eval", "Compare an estimated trajectory with a reference (APE, RPE)", dsm::cli::AddEval);
+  add("synth", "Render a synthetic sequence with exact ground truth", dsm::cli::AddSynth);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    for (auto& [sub, run] : commands) {
+      if (sub->parsed()) return run();
+    }
+  } catch (const dsm::InputError& e) {
+    std::fprintf(stderr, "dsm: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dsm: internal error: %s\n", e.what());
+    return 1;
+  }
+  return 2;
+}

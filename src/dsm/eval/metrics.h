@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+// Trajectory error metrics, with the definitions of the field's reference evaluation tool:
+//
+//   alignment  Umeyama on the associated positions, est -> ref (none, SE(3) or Sim(3));
+//   APE        e_i = | t(ref_i) - t(S est_i) |;
+//   RPE        E_ij = (ref_i^-1 ref_j)^-1 (est_i^-1 est_j), e = |t(E_ij)|, over consecutive pairs
+//              (i, j) of an index list: every `delta` frames, or each time the estimate's path
+//              has grown by >= `delta` metres since the last index;
+//   statistics rmse, mean, median, std (population), min, max.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "dsm/eval/association.h"
+#include "dsm/lie/sim3.h"
+
+namespace dsm {
+
+struct ErrorStats {
+  double rmse = 0, mean = 0, median = 0, std = 0, min = 0, max = 0;
+  size_t count = 0;
+};
+
+// Throws InputError on an empty set.
+ErrorStats ComputeStats(std::vector<double> errors);
+
+enum class Alignment { kNone, kSE3, kSim3 };
+Alignment ParseAlignment(const std::string& name, const std::string& where);
+
+enum class RpeUnit { kFrames, kMeters };
+
+struct EvalOptions {
+  Alignment align = Alignment::kNone;
+  double max_dt_s = 0.01;     // Association tolerance (stamped trajectories).
+  std::optional<double> rpe_delta;  // Computes RPE when set (> 0).
+  RpeUnit rpe_unit = RpeUnit::kFrames;
+
+  void Validate() const;  // Throws InputError naming the option.
+};
+
+struct EvalResult {
+  ErrorStats ape;
+  size_t pairs = 0;
+  Sim3d ref_from_est;  // The alignment applied to the estimate.
+  std::optional<ErrorStats> rpe;
+};
+
+// `ref` and `est` are world_from_cam trajectories. Stamped pairs associate by time, unstamped by
+// index. Throws InputError when nothing associates or the alignment is degenerate.
+EvalResult Evaluate(const Trajectory& ref, const Trajectory& est, const EvalOptions& options);
+
+// {"ape": {rmse, mean, median, std, min, max}, "pairs": N, "scale": s, "rpe": {..., "pairs"}}
+nlohmann::json ToJson(const EvalResult& result);
+nlohmann::json ToJson(const ErrorStats& stats);
+
+}  // namespace dsm

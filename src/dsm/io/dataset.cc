@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/io/dataset.h"
+
+#include <sstream>
+
+#include "dsm/util/check.h"
+#include "dsm/util/parse.h"
+
+namespace dsm {
+
+namespace fs = std::filesystem;
+
+bool Dataset::HasExposure() const {
+  for (const auto& f : frames)
+    if (f.exposure_ms > 0.0) return true;
+  return false;
+}
+
+Image<uint8_t> Dataset::LoadImage(size_t i) const {
+  DSM_CHECK(i < frames.size(), "frame index out of range");
+  Image<uint8_t> image = images->Load(frames[i].image);
+  if (image.width() != camera.width || image.height() != camera.height) {
+    throw InputError(images->Describe() + "/" + frames[i].image + ": image is " + std::to_string(image.width()) +
+                     "x" + std::to_string(image.height()) + " but the calibration says " +
+                     std::to_string(camera.width) + "x" + std::to_string(camera.height));
+  }
+  return image;
+}
+
+void ValidateFrames(const std::vector<FrameRecord>& frames, const std::string& source) {
+  if (frames.empty()) throw InputError(source + ": the dataset has no frames");
+  for (size_t i = 1; i < frames.size(); ++i) {
+    if (frames[i].t_ns <= frames[i - 1].t_ns) {
+      throw InputError(source + ": timestamps must increase strictly (frame " + std::to_string(i) + ", " +
+                       frames[i].image + ")");
+    }
+  }
+}
+
+Dataset OpenDataset(const fs::path& path) {
+  if (!fs::exists(path)) throw InputError(path.string() + ": dataset not found");
+  if (fs::is_directory(path / "mav0" / "cam0")) return ReadEuroc(path / "mav0");
+  if (fs::is_directory(path / "cam0") && fs::exists(path / "cam0" / "data.csv")) return ReadEuroc(path);
+  if (fs::exists(path / "camera.txt") && fs::exists(path / "times.txt")) return ReadTumMono(path);
+  if (fs::exists(path / "rgb.txt")) return ReadTumRgbd(path);
+  if (fs::exists(path / "calib.txt") && fs::is_directory(path / "image_0")) return ReadKitti(path);
+  if (fs::exists(path / "camera.yaml")) return ReadFolder(path);
+  throw InputError(path.string() +
+                   ": cannot detect the dataset format (expected EuRoC mav0/cam0, TUM monoVO camera.txt + "
+                   "times.txt, TUM RGB-D rgb.txt, KITTI calib.txt + image_0/, or a folder with camera.yaml "
+                   "and images/)");
+}
+
+std::string DescribeDataset(const Dataset& d) {
+  std::ostringstream out;
+  out.precision(10);
+  const CameraCalibration& c = d.camera;
+  const double span_s = d.frames.size() > 1 ? (d.frames.back().t_ns - d.frames.front().t_ns) * 1e-9 : 0.0;
+  out << "dataset:      " << d.root.string() << "\n"
+      << "format:       " << d.format << "\n"
+      << "frames:       " << d.frames.size() << "\n"
+      << "resolution:   " << c.width << "x" << c.height << "\n"
+      << "time span:    " << FormatSeconds(d.frames.front().t_ns) << " .. " << FormatSeconds(d.frames.back().t_ns)
+      << " s (" << span_s << " s, " << (span_s > 0 ? (d.frames.size() - 1) / span_s : 0.0) << " Hz)\n"
+      << "camera model: " << CameraModelName(c.model) << "\n"
+      << "intrinsics:   fx " << c.fx << "  fy " << c.fy << "  cx " << c.cx << "  cy " << c.cy << "\n";
+  if (!c.distortion.empty()) {
+    out << "distortion:  ";
+    for (double k : c.distortion) out << " " << k;
+    out << "\n";
+  }
+  const Undistorter und(c, {d.undistort_mode, 16});
+  const PinholeCamera& p = und.output();
+  out << "undistorted:  pinhole " << p.width << "x" << p.height << "  fx " << p.fx << "  fy " << p.fy << "  cx "
+      << p.cx << "  cy " << p.cy << "  (" << (d.undistort_mode == UndistortMode::kCrop ? "crop" : "full")
+      << ", " << 100.0 * und.ValidFraction() << "% valid)\n";
+  out << "ground truth: ";
+  if (d.HasGroundTruth()) {
+    out << "yes (" << d.ground_truth.size() << " camera poses, " << d.ground_truth.PathLength() << " m path)\n";
+  } else {
+    out << "no\n";
+  }
+  out << "photometric:  ";
+  if (d.photometric) {
+    out << "yes (response " << (d.photometric->has_response() ? "yes" : "no") << ", vignette "
+        << (d.photometric->has_vignette() ? "yes" : "no") << ")";
+  } else {
+    out << "no";
+  }
+  out << ", exposure times " << (d.HasExposure() ? "yes" : "no") << "\n";
+  return out.str();
+}
+
+}  // namespace dsm

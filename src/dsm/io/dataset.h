@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+// A dataset: frames in time order, the camera calibration and, when present, ground truth
+// (world_from_cam camera poses) and photometric calibration. Formats, detected from the layout:
+//   euroc     mav0/cam0/data.csv, sensor.yaml, state_groundtruth_estimate0/data.csv (body poses,
+//             converted to camera poses with T_BS)
+//   tum-mono  times.txt (id, seconds, exposure ms), camera.txt, images/ or images.zip,
+//             pcalib.txt, vignette.png
+//   tum-rgbd  rgb.txt, groundtruth.txt, camera.yaml (or the published Freiburg 1/2/3 intrinsics)
+//   kitti     image_0/, times.txt, calib.txt, poses.txt or ../../poses/<sequence>.txt
+//   folder    images/, camera.yaml, optional times.txt, groundtruth.tum, pcalib.txt, vignette.png
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dsm/geometry/camera.h"
+#include "dsm/geometry/trajectory.h"
+#include "dsm/geometry/undistorter.h"
+#include "dsm/io/image_store.h"
+#include "dsm/photometric/photometric_calibration.h"
+
+namespace dsm {
+
+struct FrameRecord {
+  int64_t t_ns = 0;
+  std::string image;         // Name inside the image store.
+  double exposure_ms = 0.0;  // 0 when unknown.
+};
+
+struct Dataset {
+  std::string format;
+  std::filesystem::path root;
+  CameraCalibration camera;
+  UndistortMode undistort_mode = UndistortMode::kCrop;
+  std::vector<FrameRecord> frames;  // Strictly increasing timestamps.
+  Trajectory ground_truth;          // world_from_cam; empty when the dataset has none.
+  std::optional<PhotometricCalibration> photometric;
+  std::shared_ptr<const ImageStore> images;
+
+  size_t size() const { return frames.size(); }
+  bool HasGroundTruth() const { return !ground_truth.empty(); }
+  bool HasExposure() const;
+
+  // Frame i as 8-bit grey; throws InputError naming the file when it is unreadable or its size
+  // differs from the calibration.
+  Image<uint8_t> LoadImage(size_t i) const;
+};
+
+// Opens the dataset at `path`, detecting its format. Throws InputError with a message naming the
+// path and what is missing or malformed.
+Dataset OpenDataset(const std::filesystem::path& path);
+
+// Human-readable summary (what `dsm info` prints).
+std::string DescribeDataset(const Dataset& dataset);
+
+// Readers of the single formats (used by OpenDataset).
+Dataset ReadEuroc(const std::filesystem::path& mav0);
+Dataset ReadTumMono(const std::filesystem::path& root);
+Dataset ReadTumRgbd(const std::filesystem::path& root);
+Dataset ReadKitti(const std::filesystem::path& root);
+Dataset ReadFolder(const std::filesystem::path& root);
+
+// Checks the frames are non-empty with strictly increasing stamps; throws InputError naming `source`.
+void ValidateFrames(const std::vector<FrameRecord>& frames, const std::string& source);
+
+}  // namespace dsm

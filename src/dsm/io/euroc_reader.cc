@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// EuRoC ASL layout. Ground truth is the body (IMU) frame; camera poses are
+//   world_from_cam = world_from_body * body_from_cam,   body_from_cam = T_BS of sensor.yaml.
+#include "dsm/io/calibration_io.h"
+#include "dsm/io/dataset.h"
+#include "dsm/io/trajectory_io.h"
+#include "dsm/util/check.h"
+#include "dsm/util/parse.h"
+
+namespace dsm {
+
+namespace fs = std::filesystem;
+
+Dataset ReadEuroc(const fs::path& mav0) {
+  Dataset d;
+  d.format = "euroc";
+  d.root = mav0.filename() == "mav0" ? mav0.parent_path() : mav0;
+  const fs::path cam0 = mav0 / "cam0";
+  const EurocSensor sensor = ReadEurocSensorYaml(cam0 / "sensor.yaml");
+  d.camera = sensor.camera;
+
+  const fs::path csv = cam0 / "data.csv";
+  const auto lines = ReadLines(csv);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const std::string_view line = Trim(lines[i]);
+    if (line.empty() || line.front() == '#') continue;
+    const auto f = SplitFields(line, ",");
+    if (f.size() != 2) throw InputError(Where(csv, i) + ": expected 'timestamp [ns],filename'");
+    d.frames.push_back({ParseTimestampNs(f[0], 1, Where(csv, i)), std::string(Trim(f[1])), 0.0});
+  }
+  ValidateFrames(d.frames, csv.string());
+  d.images = MakeFolderStore(cam0 / "data");
+
+  const fs::path gt = mav0 / "state_groundtruth_estimate0" / "data.csv";
+  if (fs::exists(gt)) {
+    Trajectory body = ReadTrajectory(gt, TrajectoryFormat::kEuroc);
+    for (size_t i = 0; i < body.size(); ++i) {
+      d.ground_truth.Add(body.stamps_ns[i], body.poses[i] * sensor.body_from_cam);
+    }
+  }
+  return d;
+}
+
+}  // namespace dsm

@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/io/image_io.h"
+
+#include <cstring>
+#include <fstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "dsm/util/check.h"
+
+namespace dsm {
+
+namespace {
+
+cv::Mat ToGrayOneChannel(cv::Mat m) {
+  if (m.channels() == 3) cv::cvtColor(m, m, cv::COLOR_BGR2GRAY);
+  if (m.channels() == 4) cv::cvtColor(m, m, cv::COLOR_BGRA2GRAY);
+  return m;
+}
+
+template <typename T>
+Image<T> FromMat(const cv::Mat& m) {
+  Image<T> out(m.cols, m.rows);
+  for (int y = 0; y < m.rows; ++y) std::memcpy(out.Row(y), m.ptr<T>(y), sizeof(T) * m.cols);
+  return out;
+}
+
+Image<uint8_t> ToGray8(cv::Mat m, const std::string& source) {
+  if (m.empty()) throw InputError(source + ": cannot decode the image (missing, corrupt or unsupported)");
+  m = ToGrayOneChannel(m);
+  if (m.depth() == CV_16U) m.convertTo(m, CV_8U, 1.0 / 257.0);
+  if (m.depth() != CV_8U || m.channels() != 1) throw InputError(source + ": unsupported pixel type");
+  return FromMat<uint8_t>(m);
+}
+
+void Write(const std::filesystem::path& path, const cv::Mat& m) {
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path.string(), m);
+  } catch (const cv::Exception&) {
+    ok = false;
+  }
+  if (!ok) throw InputError(path.string() + ": cannot write the image");
+}
+
+}  // namespace
+
+Image<uint8_t> DecodeGray8(const std::vector<uint8_t>& bytes, const std::string& source) {
+  cv::Mat m;
+  try {
+    m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    m = cv::Mat();
+  }
+  return ToGray8(m, source);
+}
+
+Image<uint8_t> ReadGray8(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot open the image");
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return DecodeGray8(bytes, path.string());
+}
+
+Image<float> ReadGrayFloat(const std::filesystem::path& path) {
+  cv::Mat m;
+  try {
+    m = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    m = cv::Mat();
+  }
+  if (m.empty()) throw InputError(path.string() + ": cannot read the image (missing, corrupt or unsupported)");
+  m = ToGrayOneChannel(m);
+  m.convertTo(m, CV_32F);
+  return FromMat<float>(m);
+}
+
+void WriteGray8(const std::filesystem::path& path, const Image<uint8_t>& image) {
+  Write(path, cv::Mat(image.height(), image.width(), CV_8UC1, const_cast<uint8_t*>(image.data())));
+}
+
+void WriteGray16(const std::filesystem::path& path, const Image<uint16_t>& image) {
+  Write(path, cv::Mat(image.height(), image.width(), CV_16UC1, const_cast<uint16_t*>(image.data())));
+}
+
+void WriteFloatTiff(const std::filesystem::path& path, const Image<float>& image) {
+  Write(path, cv::Mat(image.height(), image.width(), CV_32FC1, const_cast<float*>(image.data())));
+}
+
+}  // namespace dsm

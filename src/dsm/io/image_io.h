@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+// Image files through OpenCV, converted to and from our Image<T>.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "dsm/image/image.h"
+
+namespace dsm {
+
+// Decodes an encoded image (PNG, JPEG, ...) to 8-bit grey: colour is converted, 16 bit scaled down.
+// Throws InputError naming `source` when it cannot be decoded.
+Image<uint8_t> DecodeGray8(const std::vector<uint8_t>& bytes, const std::string& source);
+Image<uint8_t> ReadGray8(const std::filesystem::path& path);
+
+// Reads any grey image as float values (8 or 16 bit, or 32-bit float TIFF).
+Image<float> ReadGrayFloat(const std::filesystem::path& path);
+
+void WriteGray8(const std::filesystem::path& path, const Image<uint8_t>& image);
+void WriteGray16(const std::filesystem::path& path, const Image<uint16_t>& image);
+// 32-bit float TIFF (lossless).
+void WriteFloatTiff(const std::filesystem::path& path, const Image<float>& image);
+
+}  // namespace dsm

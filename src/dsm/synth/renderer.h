@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+// Ray-casting renderer and image formation of the synthetic test world.
+//
+// RenderFrame casts one ray per pixel centre: albedo from the surface texture (filtered by the
+// pixel footprint, see texture.h) and depth as z in the camera frame. FormImage then applies the
+// photometric model
+//   I(x) = gain * (exposure / 10 ms) * 255 * albedo(x) * V(x) + offset,
+// optical blur, Gaussian noise and 8-bit quantisation.
+#pragma once
+
+#include <cstdint>
+
+#include "dsm/geometry/camera.h"
+#include "dsm/image/image.h"
+#include "dsm/lie/se3.h"
+#include "dsm/synth/scenes.h"
+
+namespace dsm::synth {
+
+// `depth` may be null. Pixels that see nothing get albedo 0 and depth 0. With `parallel`, rows are
+// rendered with TBB (the result is identical).
+void RenderFrame(const Scene& scene, const PinholeCamera& camera, const SE3d& world_from_cam, Image<float>* albedo,
+                 Image<float>* depth, bool parallel = true);
+
+// Radial vignette V = 1 - strength * (r / r_corner)^2, in (0, 1].
+Image<float> MakeVignette(int width, int height, double strength);
+
+struct FormationOptions {
+  double noise_sigma = 0.0;
+  double blur_sigma = 0.0;
+  const Image<float>* vignette = nullptr;  // None when null.
+  uint32_t noise_seed = 0;
+};
+
+Image<uint8_t> FormImage(const Image<float>& albedo, const Photometry& photometry, const FormationOptions& options);
+
+}  // namespace dsm::synth

@@ -1,0 +1,172 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/synth/scenes.h"
+
+#include <cmath>
+#include <algorithm>
+#include <random>
+
+#include "dsm/util/check.h"
+
+namespace dsm::synth {
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * M_PI;
+constexpr int64_t kStartNs = 1600000000000000000LL;  // A realistic epoch, beyond 2^53 ns.
+
+// Smooth pseudo-random jitter: a few sines with seeded phases, amplitude ~1.
+struct Jitter {
+  double phase[3][3];
+  explicit Jitter(std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(0.0, kTwoPi);
+    for (auto& axis : phase)
+      for (double& p : axis) p = u(rng);
+  }
+  Eigen::Vector3d At(double t_s) const {
+    static constexpr double kFreq[3] = {0.31, 0.73, 1.37};  // Hz
+    Eigen::Vector3d j = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) j[a] += std::sin(kTwoPi * kFreq[k] * t_s + phase[a][k]) / (k + 1.5);
+    return j;
+  }
+};
+
+Texture MakeTexture(std::mt19937& rng, float base, float contrast, float scale, float lines = 0.f, float weak = 0.f) {
+  return Texture{static_cast<uint32_t>(rng()), base, contrast, scale, lines, weak};
+}
+
+// A room 8 x 6 x 3 m centred at the origin, with boxes and cylinders near the walls.
+void FurnishedRoom(std::mt19937& rng, Scene* scene) {
+  // Walls -x, +x, -y, +y, floor, ceiling.
+  scene->AddRoom({-4, -3, 0}, {4, 3, 3},
+                 {MakeTexture(rng, 0.55f, 0.35f, 1.2f), MakeTexture(rng, 0.45f, 0.35f, 0.9f, 1.0f),
+                  MakeTexture(rng, 0.5f, 0.3f, 1.5f, 0.f, 0.35f), MakeTexture(rng, 0.6f, 0.3f, 1.1f),
+                  MakeTexture(rng, 0.4f, 0.3f, 1.0f, 0.6f), MakeTexture(rng, 0.7f, 0.2f, 2.0f, 0.f, 0.5f)});
+  scene->AddBox({2.9f, -1.9f, 0.f}, {3.6f, -0.9f, 0.9f}, MakeTexture(rng, 0.65f, 0.3f, 0.5f));
+  scene->AddBox({-3.7f, 0.6f, 0.f}, {-3.0f, 1.8f, 1.4f}, MakeTexture(rng, 0.35f, 0.3f, 0.6f, 0.35f));
+  scene->AddBox({-1.0f, 2.3f, 0.f}, {0.4f, 2.8f, 0.7f}, MakeTexture(rng, 0.55f, 0.35f, 0.4f));
+  scene->AddBox({0.5f, -2.8f, 0.8f}, {1.7f, -2.5f, 1.6f}, MakeTexture(rng, 0.3f, 0.25f, 0.5f));
+  scene->AddCylinder({{2.9f, 2.1f}, 0.35f, 0.f, 2.2f, MakeTexture(rng, 0.5f, 0.35f, 0.4f)});
+  scene->AddCylinder({{-2.8f, -2.0f}, 0.25f, 0.f, 3.f, MakeTexture(rng, 0.6f, 0.3f, 0.3f)});
+  scene->AddCylinder({{1.0f, 2.4f}, 0.2f, 0.f, 1.2f, MakeTexture(rng, 0.4f, 0.3f, 0.3f)});
+}
+
+// A corridor along +x: 24 m long, 2.4 m wide, 2.6 m high, with boxes along the walls.
+void Corridor(std::mt19937& rng, Scene* scene) {
+  scene->AddRoom({-2, -1.2f, 0}, {22, 1.2f, 2.6f},
+                 {MakeTexture(rng, 0.45f, 0.3f, 0.8f), MakeTexture(rng, 0.6f, 0.3f, 0.8f),
+                  MakeTexture(rng, 0.5f, 0.35f, 1.3f, 0.f, 0.3f), MakeTexture(rng, 0.55f, 0.35f, 1.0f, 1.2f),
+                  MakeTexture(rng, 0.35f, 0.3f, 1.0f, 0.5f), MakeTexture(rng, 0.7f, 0.25f, 1.5f, 0.f, 0.4f)});
+  for (int i = 0; i < 8; ++i) {
+    const float x = 1.5f + 2.4f * i;
+    const float side = i % 2 ? 1.f : -1.f;
+    const float depth = 0.25f + 0.1f * (i % 3);
+    const float height = 0.6f + 0.25f * (i % 4);
+    const Eigen::Vector3f lo(x, side > 0 ? 1.2f - depth : -1.2f, 0.f);
+    scene->AddBox(lo, lo + Eigen::Vector3f(0.8f, depth, height), MakeTexture(rng, 0.5f, 0.35f, 0.5f));
+  }
+  scene->AddCylinder({{9.f, 0.9f}, 0.15f, 0.f, 2.6f, MakeTexture(rng, 0.4f, 0.3f, 0.3f)});
+  scene->AddCylinder({{15.f, -0.9f}, 0.15f, 0.f, 2.6f, MakeTexture(rng, 0.6f, 0.3f, 0.3f)});
+}
+
+// Smooth there-and-back profile: 0 -> 1 -> 0 over tau in [0, 1] with zero speed at the ends.
+double ThereAndBack(double tau) { return 0.5 - 0.5 * std::cos(kTwoPi * tau); }
+
+}  // namespace
+
+std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure"}; }
+
+int DefaultFrames(const std::string& scene) {
+  if (scene == "loop" || scene == "exposure") return 600;
+  if (scene == "forward") return 400;
+  return 300;
+}
+
+void SynthOptions::Validate() const {
+  const auto names = SceneNames();
+  if (std::find(names.begin(), names.end(), scene) == names.end())
+    throw InputError("--scene: unknown scene '" + scene + "' (expected loop, shake, forward, rotation or exposure)");
+  if (frames < 0 || frames == 1 || frames > 100000) throw InputError("--frames must be 0 (default) or in 2..100000");
+  if (width < 64 || height < 48 || width > 4096 || height > 4096)
+    throw InputError("--width/--height must be within 64x48 .. 4096x4096");
+  if (!(rate_hz > 0)) throw InputError("--rate must be positive");
+  if (!(noise_sigma >= 0 && noise_sigma <= 50)) throw InputError("--noise must be within 0..50 grey levels");
+  if (!(vignette >= 0 && vignette <= 0.8)) throw InputError("--vignette must be within 0..0.8");
+  if (!(blur_sigma >= 0 && blur_sigma <= 10)) throw InputError("--blur must be within 0..10 pixels");
+}
+
+SE3d LookAt(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d z = (target - position).normalized();
+  Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ());
+  if (x.norm() < 1e-6) x = Eigen::Vector3d::UnitX();
+  x.normalize();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d R;
+  R << x, y, z;
+  return SE3d(SO3d(R), position);
+}
+
+SynthSequence MakeSequence(const SynthOptions& options) {
+  options.Validate();
+  SynthSequence seq;
+  std::mt19937 rng(options.seed * 2654435761u + 12345u);
+  const std::string& name = options.scene;
+  const int n = options.frames > 0 ? options.frames : DefaultFrames(name);
+  seq.camera.width = options.width;
+  seq.camera.height = options.height;
+  seq.camera.fx = seq.camera.fy = 0.6 * options.width;
+  seq.camera.cx = 0.5 * (options.width - 1);
+  seq.camera.cy = 0.5 * (options.height - 1);
+
+  if (name == "forward") {
+    Corridor(rng, &seq.scene);
+  } else {
+    FurnishedRoom(rng, &seq.scene);
+  }
+  const Jitter jitter(rng);
+  const Jitter look_jitter(rng);
+
+  for (int i = 0; i < n; ++i) {
+    const double t_s = i / options.rate_hz;
+    const double tau = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
+    Eigen::Vector3d position, target;
+    if (name == "loop" || name == "exposure") {
+      // Two laps of an ellipse, looking outwards and a little ahead.
+      const double a = 2.0 * kTwoPi * tau;
+      position = Eigen::Vector3d(1.9 * std::cos(a), 1.3 * std::sin(a), 1.5) + 0.03 * jitter.At(t_s);
+      const double look = a + 0.35;
+      target = position + Eigen::Vector3d(std::cos(look), std::sin(look), -0.12) + 0.04 * look_jitter.At(t_s);
+    } else if (name == "shake") {
+      // Side to side and up and down in front of the +y wall, about 0.5 m, looking at it.
+      position = Eigen::Vector3d(0.25 * std::sin(kTwoPi * 0.23 * t_s) + 0.05 * jitter.At(t_s).x(),
+                                 -0.3 + 0.08 * std::sin(kTwoPi * 0.11 * t_s),
+                                 1.4 + 0.15 * std::sin(kTwoPi * 0.37 * t_s + 1.0) + 0.03 * jitter.At(t_s).z());
+      target = Eigen::Vector3d(0.4 * std::sin(kTwoPi * 0.17 * t_s + 0.5), 3.0, 1.3) + 0.25 * look_jitter.At(t_s);
+    } else if (name == "forward") {
+      // 12 m down the corridor and back, reversing with the same heading.
+      const double x = 0.5 + 12.0 * ThereAndBack(tau);
+      position = Eigen::Vector3d(x, 0.15 * std::sin(kTwoPi * 0.2 * t_s), 1.4) + 0.02 * jitter.At(t_s);
+      target = position + Eigen::Vector3d(1.0, 0.05 * std::sin(kTwoPi * 0.13 * t_s), -0.05) + 0.03 * look_jitter.At(t_s);
+    } else {  // rotation
+      // A small circle (10 cm) with large yaw (+-70 deg) and pitch (+-20 deg) swings.
+      const double a = kTwoPi * 0.25 * t_s;
+      position = Eigen::Vector3d(0.1 * std::cos(a), 0.1 * std::sin(a), 1.5);
+      const double ramp = std::min(1.0, t_s / 2.0);  // Swings grow over the first 2 s.
+      const double yaw = ramp * 1.22 * std::sin(kTwoPi * 0.12 * t_s) + 0.5;
+      const double pitch = ramp * 0.35 * std::sin(kTwoPi * 0.21 * t_s + 0.7);
+      target = position + Eigen::Vector3d(std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch));
+    }
+    seq.world_from_cam.push_back(LookAt(position, target));
+    seq.t_ns.push_back(kStartNs + static_cast<int64_t>(std::llround(t_s * 1e9)));
+    Photometry p;
+    if (name == "exposure") {
+      p.exposure_ms = 10.0 * (0.75 + 0.25 * std::sin(kTwoPi * 0.09 * t_s));
+      p.gain = static_cast<float>(1.0 + 0.15 * std::sin(kTwoPi * 0.05 * t_s + 1.0));
+      p.offset = static_cast<float>(8.0 * std::sin(kTwoPi * 0.07 * t_s));
+    }
+    seq.photometry.push_back(p);
+  }
+  return seq;
+}
+
+}  // namespace dsm::synth

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: MIT
+// The synthetic sequences: a scene, a camera, a trajectory and photometric parameters per frame,
+// all deterministic functions of the options (the seed varies textures and hand-held jitter).
+//
+//   loop      a furnished room walked around twice along the same loop (re-visits)
+//   shake     back-and-forth hand-held motion in front of a wall (like the EuRoC start)
+//   forward   along a corridor, then back the same way (reversing, same heading)
+//   rotation  strong rotations with little translation
+//   exposure  like loop, with exposure time, gain and offset changing over time
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dsm/geometry/camera.h"
+#include "dsm/lie/se3.h"
+#include "dsm/synth/scene.h"
+
+namespace dsm::synth {
+
+struct SynthOptions {
+  std::string scene = "loop";
+  int frames = 0;         // 0: the scene's default length.
+  uint32_t seed = 1;
+  int width = 640;        // Image size; focal length 0.6 * width (about 80 degrees across).
+  int height = 480;
+  double rate_hz = 20.0;
+  double noise_sigma = 1.0;  // Gaussian image noise, grey levels.
+  double vignette = 0.0;     // Brightness loss in the corners (0..0.8); written as vignette.png.
+  double blur_sigma = 0.0;   // Gaussian optical blur, pixels.
+  bool depth = false;        // Also write per-frame depth maps.
+
+  void Validate() const;  // Throws InputError naming the option.
+};
+
+std::vector<std::string> SceneNames();
+int DefaultFrames(const std::string& scene);
+
+// Per-frame photometric parameters: I = gain * (exposure_ms / 10) * 255 * albedo * V + offset.
+struct Photometry {
+  double exposure_ms = 10.0;
+  float gain = 1.f;
+  float offset = 0.f;
+};
+
+struct SynthSequence {
+  Scene scene;
+  PinholeCamera camera;
+  std::vector<int64_t> t_ns;
+  std::vector<SE3d> world_from_cam;
+  std::vector<Photometry> photometry;
+  size_t size() const { return world_from_cam.size(); }
+};
+
+SynthSequence MakeSequence(const SynthOptions& options);
+
+// world_from_cam for a camera at `position` looking at `target` (camera x right, y down, z ahead;
+// the image up direction follows world +z).
+SE3d LookAt(const Eigen::Vector3d& position, const Eigen::Vector3d& target);
+
+}  // namespace dsm::synth

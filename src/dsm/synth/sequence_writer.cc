@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/synth/sequence_writer.h"
+
+#include <chrono>
+
+#include "dsm/io/folder_dataset.h"
+#include "dsm/io/image_io.h"
+#include "dsm/io/trajectory_io.h"
+#include "dsm/synth/renderer.h"
+#include "dsm/util/check.h"
+
+namespace dsm::synth {
+
+namespace fs = std::filesystem;
+
+WriteSummary WriteSequence(const SynthSequence& seq, const SynthOptions& options, const fs::path& out,
+                           const std::function<void(size_t, size_t)>& progress) {
+  std::error_code ec;
+  fs::create_directories(out / "images", ec);
+  if (ec) throw InputError(out.string() + ": cannot create the output folder (" + ec.message() + ")");
+  if (options.depth) fs::create_directories(out / "depth", ec);
+
+  CameraYaml cam;
+  cam.camera = {CameraModel::kPinhole, seq.camera.width, seq.camera.height, seq.camera.fx, seq.camera.fy,
+                seq.camera.cx, seq.camera.cy, {}};
+  cam.rate_hz = options.rate_hz;
+  WriteCameraYaml(out / "camera.yaml", cam);
+
+  Image<float> vignette;
+  if (options.vignette > 0.0) {
+    vignette = MakeVignette(seq.camera.width, seq.camera.height, options.vignette);
+    Image<uint16_t> v16(vignette.width(), vignette.height());
+    for (size_t i = 0; i < v16.size(); ++i) v16.data()[i] = static_cast<uint16_t>(std::lround(vignette.data()[i] * 65535.0));
+    WriteGray16(out / "vignette.png", v16);
+  } else {
+    fs::remove(out / "vignette.png", ec);
+  }
+
+  WriteSummary summary;
+  std::vector<FrameRecord> frames;
+  Trajectory gt;
+  double render_ms = 0.0;
+  for (size_t i = 0; i < seq.size(); ++i) {
+    Image<float> albedo, depth;
+    const auto t0 = std::chrono::steady_clock::now();
+    RenderFrame(seq.scene, seq.camera, seq.world_from_cam[i], &albedo, options.depth ? &depth : nullptr);
+    render_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    FormationOptions formation;
+    formation.noise_sigma = options.noise_sigma;
+    formation.blur_sigma = options.blur_sigma;
+    formation.vignette = vignette.empty() ? nullptr : &vignette;
+    formation.noise_seed = options.seed * 7919u + static_cast<uint32_t>(i);
+    const std::string name = FolderImageName(i);
+    WriteGray8(out / "images" / name, FormImage(albedo, seq.photometry[i], formation));
+    if (options.depth) WriteFloatTiff(out / "depth" / (name.substr(0, name.size() - 4) + ".tiff"), depth);
+    frames.push_back({seq.t_ns[i], name, seq.photometry[i].exposure_ms});
+    gt.Add(seq.t_ns[i], seq.world_from_cam[i]);
+    if (progress) progress(i + 1, seq.size());
+  }
+  WriteFolderTimes(out, frames);
+  WriteTumTrajectory(out / "groundtruth.tum", gt);
+  summary.frames = seq.size();
+  summary.render_ms_mean = seq.size() ? render_ms / seq.size() : 0.0;
+  summary.path_length_m = gt.PathLength();
+  return summary;
+}
+
+}  // namespace dsm::synth

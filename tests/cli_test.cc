@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+// The `dsm` command line as a user runs it: outputs, and clear errors with exit code 2 for bad
+// input (never a crash).
+#include <array>
+#include <cstdio>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "dsm/io/dataset.h"
+#include "dsm/testing/test_data.h"
+
+namespace dsm {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ScratchDir;
+using testing::SharedDataDir;
+using testing::WriteText;
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result RunDsm(const std::string& args) {
+  const std::string command = std::string(DSM_CLI_PATH) + " " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(Cli, InfoDescribesTheSharedEurocData) {
+  const Result r = RunDsm("info " + (SharedDataDir() / "euroc_mh01_shake").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(Contains(r.output, "format:       euroc"));
+  EXPECT_TRUE(Contains(r.output, "frames:       340"));
+  EXPECT_TRUE(Contains(r.output, "resolution:   752x480"));
+  EXPECT_TRUE(Contains(r.output, "camera model: radtan"));
+  EXPECT_TRUE(Contains(r.output, "1403636584.763555584"));
+  EXPECT_TRUE(Contains(r.output, "ground truth: yes"));
+  EXPECT_TRUE(Contains(r.output, "photometric:  no"));
+}
+
+TEST(Cli, EvalWritesTheJsonContract) {
+  const fs::path dir = ScratchDir("cli_eval");
+  const fs::path traj = SharedDataDir() / "trajectories";
+  const Result r = RunDsm("eval --ref " + (traj / "KITTI_00_gt.txt").string() + " --est " +
+                       (traj / "KITTI_00_ORB.txt").string() + " --align sim3 --rpe-delta 100 --rpe-unit f --json " +
+                       (dir / "out.json").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(dir / "out.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  for (const char* key : {"rmse", "mean", "median", "std", "min", "max"}) {
+    EXPECT_TRUE(j["ape"].contains(key)) << key;
+    EXPECT_TRUE(j["rpe"].contains(key)) << key;
+  }
+  EXPECT_EQ(j["pairs"], 4541);
+  EXPECT_EQ(j["rpe"]["pairs"], 45);  // indices 0, 100, ..., 4500
+  EXPECT_GT(j["scale"].get<double>(), 0.0);
+}
+
+TEST(Cli, SynthOutputIsADatasetThatInfoReads) {
+  const fs::path dir = ScratchDir("cli_synth");
+  const Result r = RunDsm("synth --scene shake --out " + (dir / "seq").string() +
+                       " --frames 5 --width 160 --height 120 --vignette 0.3 --depth");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const Dataset d = OpenDataset(dir / "seq");
+  EXPECT_EQ(d.format, "folder");
+  EXPECT_EQ(d.size(), 5u);
+  EXPECT_EQ(d.ground_truth.size(), 5u);
+  ASSERT_TRUE(d.photometric.has_value());
+  EXPECT_TRUE(d.photometric->has_vignette());
+  EXPECT_TRUE(fs::exists(dir / "seq" / "depth" / "000004.tiff"));
+  const Result info = RunDsm("info " + (dir / "seq").string());
+  EXPECT_EQ(info.code, 0);
+  EXPECT_TRUE(Contains(info.output, "frames:       5"));
+}
+
+TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
+  const fs::path dir = ScratchDir("cli_bad");
+  const fs::path traj = SharedDataDir() / "trajectories";
+  struct Case {
+    std::string args, expected;
+  };
+  WriteText(dir / "broken.tum", "0 0 0 0 0 0 0 1\n1 0 0 oops 0 0 0 1\n");
+  fs::create_directories(dir / "badcam" / "images");
+  WriteText(dir / "badcam" / "camera.yaml", "model: pinhole\nwidth: 640\nheight: 480\nintrinsics: [400, 400, 320]\n");
+  const std::vector<Case> cases = {
+      {"info " + (dir / "nothing").string(), "not found"},
+      {"info " + dir.string(), "cannot detect"},
+      {"info " + (dir / "badcam").string(), "intrinsics"},
+      {"eval --ref " + (dir / "missing.tum").string() + " --est " + (dir / "broken.tum").string(), "missing.tum"},
+      {"eval --ref " + (traj / "fr2_desk_groundtruth.txt").string() + " --est " + (dir / "broken.tum").string(),
+       "broken.tum:2"},
+      {"eval --ref " + (traj / "KITTI_00_gt.txt").string() + " --est " + (traj / "KITTI_00_ORB.txt").string() +
+           " --align affine",
+       "--align"},
+      {"eval --ref " + (traj / "KITTI_00_gt.txt").string() + " --est " + (traj / "fr2_desk_ORB.txt").string(),
+       "pose by pose"},
+      {"synth --scene moon --out " + (dir / "x").string(), "unknown scene"},
+      {"synth --scene loop --out " + (dir / "x").string() + " --width 5", "--width"},
+      {"frobnicate", ""},
+      {"eval --ref", ""},
+  };
+  for (const Case& c : cases) {
+    const Result r = RunDsm(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
+    EXPECT_TRUE(Contains(r.output, c.expected)) << c.args << "\n" << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace dsm
