@@ -25,9 +25,9 @@ Command AddSynth(CLI::App& app) {
     std::printf("rendering scene '%s': %zu frames %dx%d into %s\n", o->scene.c_str(), seq.size(), o->width, o->height,
                 out->c_str());
     const synth::WriteSummary s = synth::WriteSequence(seq, *o, *out, [](size_t done, size_t total) {
-      if (done % 100 == 0 || done == total) std::printf("  %zu/%zu frames\n", done, total), std::fflush(stdout);
+      if (done % 96 == 0 || done == total) std::printf("  %zu/%zu frames\n", done, total), std::fflush(stdout);
     });
-    std::printf("done: %zu frames, camera path %.2f m, ray casting %.1f ms per frame\n", s.frames, s.path_length_m,
+    std::printf("done: %zu frames, camera path %.2f m, ray casting %.1f ms per frame on one core\n", s.frames, s.path_length_m,
                 s.render_ms_mean);
     return 0;
   };

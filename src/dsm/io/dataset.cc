@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/io/dataset.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "dsm/util/check.h"
@@ -25,6 +26,30 @@ Image<uint8_t> Dataset::LoadImage(size_t i) const {
                      std::to_string(camera.width) + "x" + std::to_string(camera.height));
   }
   return image;
+}
+
+std::vector<FrameRecord> ReadTimesFile(const fs::path& times, const std::vector<std::string>& names,
+                                       const TimesFormat& format) {
+  std::vector<FrameRecord> frames;
+  const size_t max_fields = std::max<size_t>(format.stamp_column + 1, format.exposure_column + 1);
+  for (const DataRow& row : ReadDataRows(times, " \t,")) {
+    const std::string where = Where(times, row.line);
+    const auto& f = row.fields;
+    if (f.size() <= format.stamp_column || f.size() > max_fields)
+      throw InputError(where + ": expected '" + format.row_description + "'");
+    if (frames.size() >= names.size()) throw InputError(where + ": more timestamps than images");
+    double exposure = 0.0;
+    if (format.exposure_column >= 0 && f.size() > static_cast<size_t>(format.exposure_column)) {
+      exposure = ParseDouble(f[format.exposure_column], where);
+      if (exposure < 0) throw InputError(where + ": negative exposure time");
+    }
+    frames.push_back({ParseTimestampNs(f[format.stamp_column], format.unit_ns, where), names[frames.size()], exposure});
+  }
+  if (frames.size() != names.size())
+    throw InputError(times.string() + ": " + std::to_string(frames.size()) + " timestamps for " +
+                     std::to_string(names.size()) + " images");
+  ValidateFrames(frames, times.string());
+  return frames;
 }
 
 void ValidateFrames(const std::vector<FrameRecord>& frames, const std::string& source) {

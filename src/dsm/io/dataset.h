@@ -64,6 +64,18 @@ Dataset ReadTumRgbd(const std::filesystem::path& root);
 Dataset ReadKitti(const std::filesystem::path& root);
 Dataset ReadFolder(const std::filesystem::path& root);
 
+// Frames from a times file whose rows pair one to one with the sorted image `names`:
+// the timestamp in column `stamp_column` (units of `unit_ns`), the exposure in ms in
+// `exposure_column` when the row has it (-1: never). Throws InputError naming the file and line.
+struct TimesFormat {
+  size_t stamp_column = 0;
+  int64_t unit_ns = 1;
+  int exposure_column = -1;
+  std::string row_description;  // For messages, e.g. "timestamp_ns [exposure_ms]".
+};
+std::vector<FrameRecord> ReadTimesFile(const std::filesystem::path& times, const std::vector<std::string>& names,
+                                       const TimesFormat& format);
+
 // Checks the frames are non-empty with strictly increasing stamps; throws InputError naming `source`.
 void ValidateFrames(const std::vector<FrameRecord>& frames, const std::string& source);
 

@@ -142,6 +142,33 @@ TEST(TumMonoDataset, ImagesFromZipWithExposure) {
   EXPECT_EQ(d.LoadImage(1)(5, 5), Pattern(128, 96)(5, 5));
 }
 
+TEST(TumRgbdDataset, FreiburgIntrinsicsFromTheFolderName) {
+  const fs::path root = ScratchDir("rgbd_dataset_freiburg1_xyz");
+  fs::create_directories(root / "rgb");
+  WriteGray8(root / "rgb" / "1305031102.175304.png", Pattern(640, 480));
+  WriteGray8(root / "rgb" / "1305031102.211214.png", Pattern(640, 480));
+  WriteText(root / "rgb.txt", "# color images\n# timestamp filename\n1305031102.175304 rgb/1305031102.175304.png\n"
+                              "1305031102.211214 rgb/1305031102.211214.png\n");
+  WriteText(root / "groundtruth.txt", "# timestamp tx ty tz qx qy qz qw\n1305031102.1758 1.3405 0.6266 1.6575 0.6574 0.6126 -0.2949 -0.3248\n");
+  const Dataset d = OpenDataset(root);
+  EXPECT_EQ(d.format, "tum-rgbd");
+  EXPECT_EQ(d.camera.model, CameraModel::kRadTan);
+  EXPECT_DOUBLE_EQ(d.camera.fx, 517.3);
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d.frames[1].t_ns, 1305031102211214000LL);
+  EXPECT_EQ(d.ground_truth.size(), 1u);
+  EXPECT_EQ(d.LoadImage(0).width(), 640);
+  // Another folder name has no built-in calibration: a clear error asks for camera.yaml.
+  const fs::path other = ScratchDir("my_rgbd");
+  fs::copy(root, other, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  try {
+    OpenDataset(other);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("camera.yaml"), std::string::npos);
+  }
+}
+
 TEST(OpenDataset, UnknownLayoutIsAClearError) {
   const fs::path root = ScratchDir("unknown_layout");
   try {

@@ -20,13 +20,9 @@ Dataset ReadEuroc(const fs::path& mav0) {
   d.camera = sensor.camera;
 
   const fs::path csv = cam0 / "data.csv";
-  const auto lines = ReadLines(csv);
-  for (size_t i = 0; i < lines.size(); ++i) {
-    const std::string_view line = Trim(lines[i]);
-    if (line.empty() || line.front() == '#') continue;
-    const auto f = SplitFields(line, ",");
-    if (f.size() != 2) throw InputError(Where(csv, i) + ": expected 'timestamp [ns],filename'");
-    d.frames.push_back({ParseTimestampNs(f[0], 1, Where(csv, i)), std::string(Trim(f[1])), 0.0});
+  for (const DataRow& row : ReadDataRows(csv, ",")) {
+    if (row.fields.size() != 2) throw InputError(Where(csv, row.line) + ": expected 'timestamp [ns],filename'");
+    d.frames.push_back({ParseTimestampNs(row.fields[0], 1, Where(csv, row.line)), std::string(Trim(row.fields[1])), 0.0});
   }
   ValidateFrames(d.frames, csv.string());
   d.images = MakeFolderStore(cam0 / "data");

@@ -42,27 +42,11 @@ Dataset ReadFolder(const fs::path& root) {
   if (names.empty()) throw InputError((root / "images").string() + ": no images");
   const fs::path times = root / "times.txt";
   if (fs::exists(times)) {
-    const auto lines = ReadLines(times);
-    for (size_t i = 0; i < lines.size(); ++i) {
-      const std::string_view line = Trim(lines[i]);
-      if (line.empty() || line.front() == '#') continue;
-      const auto f = SplitFields(line, " \t,");
-      const std::string where = Where(times, i);
-      if (f.size() > 2) throw InputError(where + ": expected 'timestamp_ns [exposure_ms]'");
-      const size_t k = d.frames.size();
-      if (k >= names.size()) throw InputError(where + ": more timestamps than images");
-      const double exposure = f.size() == 2 ? ParseDouble(f[1], where) : 0.0;
-      if (exposure < 0) throw InputError(where + ": negative exposure time");
-      d.frames.push_back({ParseTimestampNs(f[0], 1, where), names[k], exposure});
-    }
-    if (d.frames.size() != names.size())
-      throw InputError(times.string() + ": " + std::to_string(d.frames.size()) + " timestamps for " +
-                       std::to_string(names.size()) + " images");
+    d.frames = ReadTimesFile(times, names, {0, 1, 1, "timestamp_ns [exposure_ms]"});
   } else {
     for (size_t i = 0; i < names.size(); ++i)
       d.frames.push_back({static_cast<int64_t>(std::llround(i * 1e9 / cam.rate_hz)), names[i], 0.0});
   }
-  ValidateFrames(d.frames, times.string());
   if (fs::exists(root / "groundtruth.tum")) d.ground_truth = ReadTrajectory(root / "groundtruth.tum", TrajectoryFormat::kTum);
   d.photometric = ReadPhotometricCalibration(root);
   return d;

@@ -16,17 +16,7 @@ Dataset ReadKitti(const fs::path& root) {
   d.format = "kitti";
   d.root = root;
   d.images = MakeFolderStore(root / "image_0");
-  const auto names = d.images->List();
-  const fs::path times = root / "times.txt";
-  const auto lines = ReadLines(times);
-  size_t k = 0;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    if (Trim(lines[i]).empty()) continue;
-    if (k >= names.size()) throw InputError(times.string() + ": more timestamps than images in image_0/");
-    d.frames.push_back({ParseTimestampNs(lines[i], 1000000000, Where(times, i)), names[k++], 0.0});
-  }
-  if (k != names.size()) throw InputError(times.string() + ": fewer timestamps than images in image_0/");
-  ValidateFrames(d.frames, times.string());
+  d.frames = ReadTimesFile(root / "times.txt", d.images->List(), {0, 1000000000, -1, "timestamp_s"});
   const Image<uint8_t> first = d.images->Load(d.frames.front().image);
   d.camera = ReadKittiCalib(root / "calib.txt", first.width(), first.height());
 

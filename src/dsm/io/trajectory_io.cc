@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/io/trajectory_io.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 
@@ -8,15 +9,6 @@
 #include "dsm/util/parse.h"
 
 namespace dsm {
-
-namespace {
-
-bool IsComment(const std::string& line) {
-  const std::string_view t = Trim(line);
-  return t.empty() || t.front() == '#' || t.front() == '%';
-}
-
-}  // namespace
 
 TrajectoryFormat ParseTrajectoryFormat(const std::string& name, const std::string& where) {
   if (name == "tum") return TrajectoryFormat::kTum;
@@ -35,26 +27,24 @@ std::string TrajectoryFormatName(TrajectoryFormat format) {
 }
 
 TrajectoryFormat DetectTrajectoryFormat(const std::filesystem::path& path) {
-  const auto lines = ReadLines(path);
-  for (size_t i = 0; i < lines.size(); ++i) {
-    if (IsComment(lines[i])) continue;
-    if (lines[i].find(',') != std::string::npos) return TrajectoryFormat::kEuroc;
-    const size_t n = SplitFields(lines[i], " \t").size();
+  for (const DataRow& row : ReadDataRows(path, " \t")) {
+    const bool commas = std::any_of(row.fields.begin(), row.fields.end(),
+                                    [](const std::string& f) { return f.find(',') != std::string::npos; });
+    if (commas) return TrajectoryFormat::kEuroc;
+    const size_t n = row.fields.size();
     if (n == 12) return TrajectoryFormat::kKitti;
     if (n == 8) return TrajectoryFormat::kTum;
-    throw InputError(Where(path, i) + ": cannot tell the trajectory format from a line of " +
+    throw InputError(Where(path, row.line) + ": cannot tell the trajectory format from a line of " +
                      std::to_string(n) + " fields (tum has 8, kitti 12, euroc is comma-separated)");
   }
   throw InputError(path.string() + ": the trajectory file has no poses");
 }
 
 Trajectory ReadTrajectory(const std::filesystem::path& path, TrajectoryFormat format) {
-  const auto lines = ReadLines(path);
   Trajectory traj;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    if (IsComment(lines[i])) continue;
-    const std::string where = Where(path, i);
-    const auto f = SplitFields(lines[i], format == TrajectoryFormat::kEuroc ? ", \t" : " \t");
+  for (const DataRow& row : ReadDataRows(path, format == TrajectoryFormat::kEuroc ? ", \t" : " \t")) {
+    const std::string where = Where(path, row.line);
+    const auto& f = row.fields;
     const auto num = [&](size_t k) { return ParseDouble(f[k], where); };
     switch (format) {
       case TrajectoryFormat::kTum: {

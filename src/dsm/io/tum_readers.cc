@@ -26,26 +26,8 @@ Dataset ReadTumMono(const fs::path& root) {
   } else {
     throw InputError(root.string() + ": neither images/ nor images.zip found");
   }
-  const auto names = d.images->List();
-  // times.txt: "id timestamp_s exposure_ms"; ids index the sorted image names.
-  const fs::path times = root / "times.txt";
-  const auto lines = ReadLines(times);
-  for (size_t i = 0; i < lines.size(); ++i) {
-    const std::string_view line = Trim(lines[i]);
-    if (line.empty() || line.front() == '#') continue;
-    const auto f = SplitFields(line, " \t");
-    const std::string where = Where(times, i);
-    if (f.size() < 2) throw InputError(where + ": expected 'id timestamp [exposure_ms]'");
-    const size_t k = d.frames.size();
-    if (k >= names.size()) throw InputError(where + ": more timestamps than images in " + d.images->Describe());
-    const double exposure = f.size() >= 3 ? ParseDouble(f[2], where) : 0.0;
-    if (exposure < 0) throw InputError(where + ": negative exposure time");
-    d.frames.push_back({ParseTimestampNs(f[1], 1000000000, where), names[k], exposure});
-  }
-  if (d.frames.size() != names.size())
-    throw InputError(times.string() + ": " + std::to_string(d.frames.size()) + " timestamps for " +
-                     std::to_string(names.size()) + " images");
-  ValidateFrames(d.frames, times.string());
+  // times.txt: "id timestamp_s [exposure_ms]", one row per image in name order.
+  d.frames = ReadTimesFile(root / "times.txt", d.images->List(), {1, 1000000000, 2, "id timestamp_s [exposure_ms]"});
   d.photometric = ReadPhotometricCalibration(root);
   return d;
 }
@@ -88,13 +70,9 @@ Dataset ReadTumRgbd(const fs::path& root) {
   }
   d.images = MakeFolderStore(root);
   const fs::path rgb = root / "rgb.txt";
-  const auto lines = ReadLines(rgb);
-  for (size_t i = 0; i < lines.size(); ++i) {
-    const std::string_view line = Trim(lines[i]);
-    if (line.empty() || line.front() == '#') continue;
-    const auto f = SplitFields(line, " \t");
-    if (f.size() != 2) throw InputError(Where(rgb, i) + ": expected 'timestamp filename'");
-    d.frames.push_back({ParseTimestampNs(f[0], 1000000000, Where(rgb, i)), f[1], 0.0});
+  for (const DataRow& row : ReadDataRows(rgb)) {
+    if (row.fields.size() != 2) throw InputError(Where(rgb, row.line) + ": expected 'timestamp filename'");
+    d.frames.push_back({ParseTimestampNs(row.fields[0], 1000000000, Where(rgb, row.line)), row.fields[1], 0.0});
   }
   ValidateFrames(d.frames, rgb.string());
   if (fs::exists(root / "groundtruth.txt")) d.ground_truth = ReadTrajectory(root / "groundtruth.txt", TrajectoryFormat::kTum);

@@ -60,14 +60,20 @@ WarpError Warp(const SynthSequence& seq, size_t a, size_t b, const Eigen::Vector
   return e;
 }
 
-class EveryScene : public ::testing::TestWithParam<std::string> {};
+class EveryScene : public ::testing::TestWithParam<std::string> {
+ protected:
+  // The scene's full trajectory, rendered at 320 x 240.
+  SynthSequence Sequence() const {
+    SynthOptions options;
+    options.scene = GetParam();
+    options.width = 320;
+    options.height = 240;
+    return MakeSequence(options);
+  }
+};
 
 TEST_P(EveryScene, WarpingWithTrueDepthAndPosesReproducesTheFrame) {
-  SynthOptions options;
-  options.scene = GetParam();
-  options.width = 320;
-  options.height = 240;
-  const SynthSequence seq = MakeSequence(options);
+  const SynthSequence seq = Sequence();
   for (const auto& [a, b] : {std::pair<size_t, size_t>{0, 4}, {100, 103}, {200, 210}}) {
     const WarpError e = Warp(seq, a, b);
     EXPECT_GT(e.pixels, 5000u) << a << " -> " << b;
@@ -78,11 +84,7 @@ TEST_P(EveryScene, WarpingWithTrueDepthAndPosesReproducesTheFrame) {
 
 TEST_P(EveryScene, WarpWithAWrongPoseFails) {
   // The same check detects a 5 cm error in the pose (a few pixels): the test above can fail.
-  SynthOptions options;
-  options.scene = GetParam();
-  options.width = 320;
-  options.height = 240;
-  const SynthSequence seq = MakeSequence(options);
+  const SynthSequence seq = Sequence();
   EXPECT_GT(Warp(seq, 0, 4, Eigen::Vector3d(0.05, -0.05, 0.0)).mean_abs, 5.0);
 }
 

@@ -11,7 +11,7 @@ namespace dsm::synth {
 
 struct WriteSummary {
   size_t frames = 0;
-  double render_ms_mean = 0.0;  // Ray casting per frame (wall clock, parallel rows).
+  double render_ms_mean = 0.0;  // Ray casting per frame on one core.
   double path_length_m = 0.0;
 };
 

@@ -123,6 +123,17 @@ std::vector<std::string> ReadLines(const std::filesystem::path& path) {
   return lines;
 }
 
+std::vector<DataRow> ReadDataRows(const std::filesystem::path& path, std::string_view separators) {
+  std::vector<DataRow> rows;
+  const auto lines = ReadLines(path);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const std::string_view t = Trim(lines[i]);
+    if (t.empty() || t.front() == '#' || t.front() == '%') continue;
+    rows.push_back({i, SplitFields(t, separators)});
+  }
+  return rows;
+}
+
 std::string Where(const std::filesystem::path& path, size_t line_index) {
   return path.string() + ":" + std::to_string(line_index + 1);
 }

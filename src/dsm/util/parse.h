@@ -31,6 +31,14 @@ std::string FormatSeconds(int64_t t_ns);
 // Reads a whole text file as lines (without line ends); throws InputError if it cannot be read.
 std::vector<std::string> ReadLines(const std::filesystem::path& path);
 
+// The data rows of a text file: lines that are not empty and do not start with '#' or '%',
+// split into fields; `line` is the 0-based line index for messages.
+struct DataRow {
+  size_t line = 0;
+  std::vector<std::string> fields;
+};
+std::vector<DataRow> ReadDataRows(const std::filesystem::path& path, std::string_view separators = " \t");
+
 // "file:line" for messages.
 std::string Where(const std::filesystem::path& path, size_t line_index);
 
