@@ -61,6 +61,11 @@ struct PinholeCamera {
   }
   // Ray with z = 1 through pixel (u, v).
   Eigen::Vector3d Unproject(double u, double v) const { return {(u - cx) / fx, (v - cy) / fy, 1.0}; }
+  // The camera of pyramid level l: f / 2^l and (c + 0.5) / 2^l - 0.5 (pixel centres at integers).
+  PinholeCamera AtLevel(int level) const {
+    const double s = 1.0 / (1 << level);
+    return {width >> level, height >> level, fx * s, fy * s, (cx + 0.5) * s - 0.5, (cy + 0.5) * s - 0.5};
+  }
   Eigen::Matrix3d K() const {
     Eigen::Matrix3d k;
     k << fx, 0, cx, 0, fy, cy, 0, 0, 1;

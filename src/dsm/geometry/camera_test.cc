@@ -82,5 +82,17 @@ TEST(Camera, ValidateNamesTheSourceAndProblem) {
   EXPECT_EQ(ParseCameraModel("radial-tangential", "x"), CameraModel::kRadTan);
 }
 
+TEST(PinholeCamera, LevelCameraKeepsRaysThroughPixelCentres) {
+  const PinholeCamera cam{640, 480, 400, 410, 319.5, 239.5};
+  const PinholeCamera c2 = cam.AtLevel(2);
+  EXPECT_EQ(c2.width, 160);
+  EXPECT_DOUBLE_EQ(c2.fx, 100);
+  // A point projecting to level-0 pixel (x, y) projects to ((x + 0.5) / 4 - 0.5, ...) at level 2.
+  const Eigen::Vector3d p(0.3, -0.2, 2.0);
+  const Eigen::Vector2d u0 = cam.Project(p), u2 = c2.Project(p);
+  EXPECT_NEAR(u2.x(), (u0.x() + 0.5) / 4 - 0.5, 1e-12);
+  EXPECT_NEAR(u2.y(), (u0.y() + 0.5) / 4 - 0.5, 1e-12);
+}
+
 }  // namespace
 }  // namespace dsm
