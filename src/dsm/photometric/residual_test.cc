@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+// Jacobians of the photometric residual against central differences (pose, inverse depth, affine).
+#include "dsm/photometric/residual.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "dsm/lie/se3.h"
+
+namespace dsm {
+namespace {
+
+// A smooth image (wavelengths of hundreds of pixels), so that interpolated gradients match the
+// derivative of the bilinear samples.
+ImagePyramid SmoothImage(int w, int h, float phase) {
+  Image<float> img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      img(x, y) = 120.f + 80.f * std::sin(0.03f * x + phase) * std::cos(0.025f * y - phase) + 0.2f * x;
+  return ImagePyramid(img, 2);
+}
+
+struct PairSetup {
+  PinholeCamera cam{160, 128, 150, 150, 79.5, 63.5};
+  ImagePyramid host = SmoothImage(160, 128, 0.3f);
+  ImagePyramid target = SmoothImage(160, 128, 0.9f);
+  SE3d target_from_host;
+  AffineBrightness ah{0.1, 5.0}, at{-0.05, -3.0};
+  float idepth = 0.45f;
+
+  PairSetup() {
+    Eigen::Matrix<double, 6, 1> xi;
+    xi << 0.05, -0.03, 0.02, 0.01, -0.02, 0.015;
+    target_from_host = SE3d::Exp(xi);
+  }
+  bool Eval(const SE3d& T, float rho, const AffineBrightness& h, const AffineBrightness& t, bool jac,
+            ObservationResiduals* out) const {
+    HostPatch patch;
+    if (!SampleHostPatch(host, 0, Eigen::Vector2f(70.3f, 60.6f), &patch)) return false;
+    ObservationInput in;
+    in.camera = &cam;
+    in.target = &target;
+    in.level = 0;
+    in.R = T.Rotation().cast<float>();
+    in.t = T.Translation().cast<float>();
+    in.idepth = rho;
+    in.host_affine = h;
+    in.target_affine = t;
+    in.host_exposure = 10.0;
+    in.target_exposure = 12.0;
+    return EvaluateObservation(patch, in, jac, out);
+  }
+};
+
+TEST(Residual, JacobiansMatchCentralDifferences) {
+  const PairSetup s;
+  ObservationResiduals base;
+  ASSERT_TRUE(s.Eval(s.target_from_host, s.idepth, s.ah, s.at, true, &base));
+  const double h = 2e-3;  // float residuals: a step well above their rounding
+  ObservationResiduals plus, minus;
+  // Pose: left increment of target_from_host.
+  for (int j = 0; j < 6; ++j) {
+    Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+    d(j) = h;
+    ASSERT_TRUE(s.Eval(SE3d::Exp(d) * s.target_from_host, s.idepth, s.ah, s.at, false, &plus));
+    ASSERT_TRUE(s.Eval(SE3d::Exp(-d) * s.target_from_host, s.idepth, s.ah, s.at, false, &minus));
+    for (int k = 0; k < kPatternSize; ++k) {
+      const double numeric = (plus.r[k] - minus.r[k]) / (2 * h);
+      EXPECT_NEAR(base.J_pose(k, j), numeric, 0.03 * std::abs(numeric) + 0.3) << "pose " << j << " pixel " << k;
+    }
+  }
+  // Inverse depth.
+  const float hr = 1e-3f;
+  ASSERT_TRUE(s.Eval(s.target_from_host, s.idepth + hr, s.ah, s.at, false, &plus));
+  ASSERT_TRUE(s.Eval(s.target_from_host, s.idepth - hr, s.ah, s.at, false, &minus));
+  for (int k = 0; k < kPatternSize; ++k) {
+    const double numeric = (plus.r[k] - minus.r[k]) / (2 * hr);
+    EXPECT_NEAR(base.J_idepth(k), numeric, 0.03 * std::abs(numeric) + 0.3) << "idepth pixel " << k;
+  }
+  // Affine: a_h, b_h, a_t, b_t (exactly linear or exponential: tight tolerance).
+  for (int j = 0; j < 4; ++j) {
+    AffineBrightness hp = s.ah, hm = s.ah, tp = s.at, tm = s.at;
+    double* plus_param[] = {&hp.a, &hp.b, &tp.a, &tp.b};
+    double* minus_param[] = {&hm.a, &hm.b, &tm.a, &tm.b};
+    const double step = j % 2 ? 0.5 : h;  // r is linear in b: a large step is exact and above rounding
+    *plus_param[j] += step;
+    *minus_param[j] -= step;
+    ASSERT_TRUE(s.Eval(s.target_from_host, s.idepth, hp, tp, false, &plus));
+    ASSERT_TRUE(s.Eval(s.target_from_host, s.idepth, hm, tm, false, &minus));
+    for (int k = 0; k < kPatternSize; ++k) {
+      const double numeric = (plus.r[k] - minus.r[k]) / (2 * step);
+      EXPECT_NEAR(base.J_affine(k, j), numeric, 1e-3 * std::abs(numeric) + 2e-3) << "affine " << j << " pixel " << k;
+    }
+  }
+}
+
+TEST(Residual, ZeroForAConsistentPair) {
+  // Target = host image seen from the same pose with a known brightness change: residuals vanish.
+  PairSetup s;
+  s.target = s.host;
+  ObservationResiduals out;
+  const AffineBrightness same{0.0, 0.0};
+  HostPatch patch;
+  ASSERT_TRUE(SampleHostPatch(s.host, 0, Eigen::Vector2f(50.f, 40.f), &patch));
+  ObservationInput in;
+  in.camera = &s.cam;
+  in.target = &s.target;
+  in.R.setIdentity();
+  in.t.setZero();
+  in.idepth = 0.5f;
+  in.host_affine = same;
+  in.target_affine = same;
+  ASSERT_TRUE(EvaluateObservation(patch, in, false, &out));
+  for (float r : out.r) EXPECT_NEAR(r, 0.f, 1e-4f);
+  EXPECT_NEAR(out.center_target.x(), 50.f, 1e-4f);
+  EXPECT_NEAR(out.target_depth, 2.f, 1e-5f);
+  // Point behind the target camera: rejected.
+  in.t = Eigen::Vector3f(0, 0, -3.f);
+  EXPECT_FALSE(EvaluateObservation(patch, in, false, &out));
+}
+
+}  // namespace
+}  // namespace dsm

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+// Robust error models of the photometric residuals (paper section V), one per keyframe, fitted to
+// the gradient-weighted residuals r of all observations in that keyframe.
+//
+//   Student t (mu = 0):  rho(r) = (nu + 1)/2 log(1 + r^2 / (nu sigma^2)),  w(r) = (nu + 1) / (nu sigma^2 + r^2)
+//   Huber:               rho(r) = r^2 / 2 (|r| < k), k |r| - k^2 / 2 (else),  w(r) = min(1, k / |r|)
+//
+// w = rho'(r) / r is the iteratively-reweighted least-squares weight. The fit (t): drop
+// |r| > min(3 * 1.4826 MAD, 60), then Nelder–Mead on the negative log-likelihood of the t
+// truncated to the kept range, over (log nu, log sigma), started at nu = (4k - 6)/(k - 3), k = max(kurtosis, 4), sigma = 1.4826 MAD.
+// A pixel is an outlier when |r| exceeds the inlier threshold: the 0.95 quantile of the fitted t
+// (times sigma), or k for Huber.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace dsm {
+
+enum class RobustKind { kStudentT, kHuberFixed, kHuberMad };
+
+RobustKind ParseRobustKind(const std::string& name, const std::string& where);  // t | huber | huber-mad
+std::string RobustKindName(RobustKind kind);
+
+struct RobustOptions {
+  RobustKind kind = RobustKind::kStudentT;
+  double huber_threshold = 9.0;   // Fixed Huber k, grey levels.
+  double inlier_quantile = 0.95;  // Quantile of the fitted t that bounds inlier pixels.
+  int min_residuals = 100;        // Fewer residuals keep the default model.
+  int max_fit_samples = 3000;     // The fit uses at most this many residuals (evenly strided).
+
+  void Validate() const;  // Throws InputError naming the option.
+};
+
+struct ErrorModel {
+  RobustKind kind = RobustKind::kStudentT;
+  double nu = 5.0;      // t: degrees of freedom
+  double sigma = 7.5;   // t: scale; Huber-MAD: 1.4826 MAD
+  double huber_k = 9.0; // Huber threshold
+  double inlier_threshold = 15.1;  // |r| above this marks an outlier pixel
+
+  double Weight(double r) const;
+  double Energy(double r) const;
+};
+
+// The default model of a new keyframe: t(nu = 5, sigma = 7.5) (or Huber with the fixed k).
+ErrorModel DefaultErrorModel(const RobustOptions& options);
+
+// Fits the model to residuals (see above). Deterministic.
+ErrorModel FitErrorModel(const std::vector<float>& residuals, const RobustOptions& options);
+
+// Negative log-likelihood of residuals under t(nu, 0, sigma).
+double StudentTNegLogLikelihood(const std::vector<float>& residuals, double nu, double sigma);
+
+}  // namespace dsm

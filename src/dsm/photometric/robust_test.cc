@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/photometric/robust.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace dsm {
+namespace {
+
+std::vector<float> SampleT(double nu, double sigma, int n, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::student_t_distribution<double> t(nu);
+  std::vector<float> r(n);
+  for (float& v : r) v = static_cast<float>(sigma * t(rng));
+  return r;
+}
+
+TEST(FitErrorModel, RecoversNuAndSigmaOfTSamples) {
+  // The fit drops |r| > 3 sigma_MAD first (outlier protection) and models the truncation.
+  for (const auto& [nu, sigma] : {std::pair{3.0, 4.0}, {5.0, 7.5}, {10.0, 2.0}}) {
+    RobustOptions options;
+    options.max_fit_samples = 20000;
+    const ErrorModel m = FitErrorModel(SampleT(nu, sigma, 20000, 11), options);
+    EXPECT_NEAR(m.sigma, sigma, 0.1 * sigma) << nu << " " << sigma;
+    EXPECT_NEAR(std::log(m.nu), std::log(nu), 0.35) << nu << " " << sigma << " fitted nu " << m.nu;
+    // The fitted t explains the samples better than the generating scale with a Gaussian-like nu.
+    EXPECT_GT(m.inlier_threshold, 1.5 * m.sigma);
+  }
+}
+
+TEST(FitErrorModel, FitBeatsTheStartingPoint) {
+  const auto r = SampleT(4.0, 5.0, 5000, 3);
+  RobustOptions options;
+  options.max_fit_samples = 5000;
+  const ErrorModel m = FitErrorModel(r, options);
+  std::vector<float> kept;
+  for (float v : r)
+    if (std::abs(v) < 60) kept.push_back(v);
+  EXPECT_LT(StudentTNegLogLikelihood(kept, m.nu, m.sigma), StudentTNegLogLikelihood(kept, 5.0, 7.5));
+}
+
+TEST(ErrorModel, WeightIsDerivativeOverResidual) {
+  for (RobustKind kind : {RobustKind::kStudentT, RobustKind::kHuberFixed}) {
+    ErrorModel m;
+    m.kind = kind;
+    m.nu = 4.0;
+    m.sigma = 3.0;
+    m.huber_k = 5.0;
+    for (double r : {0.5, 2.0, 7.0, 30.0}) {
+      const double h = 1e-5;
+      const double derivative = (m.Energy(r + h) - m.Energy(r - h)) / (2 * h);
+      EXPECT_NEAR(m.Weight(r), derivative / r, 1e-6) << RobustKindName(kind) << " " << r;
+    }
+  }
+}
+
+TEST(FitErrorModel, HuberVariantsAndSmallSamples) {
+  RobustOptions options;
+  options.kind = RobustKind::kHuberMad;
+  const ErrorModel mad = FitErrorModel(SampleT(50.0, 4.0, 5000, 5), options);
+  EXPECT_NEAR(mad.sigma, 4.0, 0.4);
+  EXPECT_NEAR(mad.huber_k, 1.345 * mad.sigma, 1e-12);
+  options.kind = RobustKind::kHuberFixed;
+  EXPECT_DOUBLE_EQ(FitErrorModel(SampleT(5.0, 4.0, 5000, 5), options).huber_k, 9.0);
+  options.kind = RobustKind::kStudentT;
+  const ErrorModel few = FitErrorModel(SampleT(5.0, 1.0, 20, 5), options);
+  EXPECT_DOUBLE_EQ(few.sigma, 7.5);  // too few residuals: the default model
+  EXPECT_THROW(ParseRobustKind("cauchy", "--robust"), std::exception);
+}
+
+}  // namespace
+}  // namespace dsm
