@@ -42,9 +42,9 @@ struct AffineBrightness {
 // The host side of an observation at one pyramid level: its pattern intensities and gradient
 // weights, sampled once per level.
 struct HostPatch {
-  Eigen::Vector2f center;  // Pixel at the level.
-  std::array<float, kPatternSize> value;
-  std::array<float, kPatternSize> grad_sq;
+  Eigen::Vector2f center = Eigen::Vector2f::Zero();  // Pixel at the level.
+  std::array<float, kPatternSize> value{};
+  std::array<float, kPatternSize> grad_sq{};
 };
 
 // Samples the host patch; false if the pattern leaves the image (border 1 px).

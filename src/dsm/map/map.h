@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: MIT
+// The persistent map: keyframes with their images and poses, and points with their observations.
+// Data only; the algorithms that change it live in optimization/, tracking/ and mapping/.
+//
+// Poses are stored as cam_from_world (the direction the residuals use); world_from_cam is its
+// inverse and is what the outputs report.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "dsm/image/pyramid.h"
+#include "dsm/lie/se3.h"
+#include "dsm/photometric/residual.h"
+#include "dsm/photometric/robust.h"
+
+namespace dsm {
+
+struct Observation {
+  int target = -1;          // Keyframe id.
+  bool outlier = false;     // Removed after a PBA found > 30% outlier pixels.
+  float inlier_ratio = 1.f; // Share of pattern pixels under the target's inlier threshold, last PBA.
+};
+
+struct Point {
+  int id = -1;
+  int host = -1;             // Keyframe id.
+  Eigen::Vector2f pixel;     // Level-0 pixel in the host.
+  float idepth = 1.f;        // Inverse depth in the host camera.
+  std::vector<Observation> observations;
+  int created_at_keyframe = 0;  // Number of keyframes in the map when it was activated.
+  bool removed = false;
+
+  int NumGoodObservations() const {
+    int n = 0;
+    for (const Observation& o : observations) n += !o.outlier;
+    return n;
+  }
+  Observation* FindObservation(int target) {
+    for (Observation& o : observations)
+      if (o.target == target) return &o;
+    return nullptr;
+  }
+};
+
+struct Keyframe {
+  int id = -1;
+  int frame_index = -1;   // Index of the frame in the input sequence.
+  int64_t t_ns = 0;
+  SE3d cam_from_world;
+  AffineBrightness affine;
+  double exposure = 1.0;  // Exposure time (1 when unknown).
+  ImagePyramid pyramid;
+  ErrorModel error_model;  // Fitted to the residuals of the observations in this keyframe.
+  std::vector<int> points; // Ids of the points it hosts.
+
+  SE3d WorldFromCam() const { return cam_from_world.Inverse(); }
+  Eigen::Vector3d Centre() const { return WorldFromCam().Translation(); }
+};
+
+class Map {
+ public:
+  Keyframe& AddKeyframe(std::unique_ptr<Keyframe> keyframe);
+  // Adds a point hosted by `point.host`; returns its id.
+  int AddPoint(Point point);
+
+  Keyframe& keyframe(int id) { return *keyframes_[id]; }
+  const Keyframe& keyframe(int id) const { return *keyframes_[id]; }
+  Point& point(int id) { return points_[id]; }
+  const Point& point(int id) const { return points_[id]; }
+  int NumKeyframes() const { return static_cast<int>(keyframes_.size()); }
+  int NumPoints() const { return static_cast<int>(points_.size()); }
+  int NumLivePoints() const;
+
+ private:
+  std::vector<std::unique_ptr<Keyframe>> keyframes_;
+  std::vector<Point> points_;
+};
+
+}  // namespace dsm

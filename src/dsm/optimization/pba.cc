@@ -1,0 +1,416 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/optimization/pba.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "dsm/optimization/normal_equations.h"
+#include "dsm/util/check.h"
+
+namespace dsm {
+
+void PbaOptions::Validate() const {
+  if (levels < 1 || levels > 5) throw InputError("pba.levels must be within 1..5");
+  if (max_iterations < 1) throw InputError("pba.max_iterations must be positive");
+  if (!(initial_lambda > 0)) throw InputError("pba.initial_lambda must be positive");
+  if (!(drop_outlier_ratio > 0 && drop_outlier_ratio <= skip_outlier_ratio && skip_outlier_ratio <= 1))
+    throw InputError("pba outlier ratios must satisfy 0 < drop <= skip <= 1");
+  robust.Validate();
+}
+
+namespace {
+
+using Matrix10 = Eigen::Matrix<double, 10, 10>;
+using Vector10 = Eigen::Matrix<double, 10, 1>;
+using Map10x8 = Eigen::Matrix<double, 10, 8>;
+constexpr int kChunks = 64;  // Fixed work split: the sums do not depend on the thread count.
+
+// Relative parameters of a host–target pair: (xi_rel 6, a_h, b_h, a_t, b_t). Absolute ones per
+// keyframe: (xi 6, a, b), xi a left increment of cam_from_world.
+//   xi_rel = xi_t - Adj(T_th) xi_h     (T_th = T_tw T_hw^-1)
+struct PairGeometry {
+  bool used = false;
+  Eigen::Matrix3f R;
+  Eigen::Vector3f t;
+  Map10x8 A_host, A_target;  // d(relative) / d(absolute)
+};
+
+struct PairAccumulator {
+  Matrix10 H = Matrix10::Zero();
+  Vector10 b = Vector10::Zero();
+};
+
+struct ObsState {
+  int target = -1;   // Problem camera index.
+  bool enabled = true;
+};
+
+struct PointState {
+  int id = -1;
+  int host = -1;  // Problem camera index.
+  HostPatch patch;
+  bool patch_ok = false;
+  std::vector<ObsState> obs;
+};
+
+class Problem {
+ public:
+  Problem(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options)
+      : map_(map), camera_(camera), options_(options) {
+    std::vector<int> index(map->NumKeyframes(), -1);
+    for (int id : active) {
+      if (index[id] >= 0) continue;
+      index[id] = static_cast<int>(cams_.size());
+      cams_.push_back(id);
+      fixed_.push_back(id == 0);
+    }
+    const size_t num_active = cams_.size();
+    for (size_t c = 0; c < num_active; ++c) {
+      for (int pid : map->keyframe(cams_[c]).points) {
+        const Point& p = map->point(pid);
+        if (p.removed) continue;
+        PointState ps;
+        ps.id = pid;
+        ps.host = static_cast<int>(c);
+        for (const Observation& o : p.observations) {
+          if (o.outlier) continue;
+          if (index[o.target] < 0) {  // Observed but not active: in the problem, fixed.
+            index[o.target] = static_cast<int>(cams_.size());
+            cams_.push_back(o.target);
+            fixed_.push_back(true);
+          }
+          ps.obs.push_back({index[o.target], true});
+        }
+        if (!ps.obs.empty()) points_.push_back(std::move(ps));
+      }
+    }
+    models_.resize(cams_.size());
+    for (size_t c = 0; c < cams_.size(); ++c) models_[c] = map->keyframe(cams_[c]).error_model;
+  }
+
+  int NumCameras() const { return static_cast<int>(cams_.size()); }
+  int NumFixed() const { return static_cast<int>(std::count(fixed_.begin(), fixed_.end(), true)); }
+  int NumPoints() const { return static_cast<int>(points_.size()); }
+  int NumObservations() const {
+    int n = 0;
+    for (const auto& p : points_) n += static_cast<int>(p.obs.size());
+    return n;
+  }
+  const std::vector<bool>& fixed() const { return fixed_; }
+
+  void SetLevel(int level) {
+    level_ = level;
+    level_camera_ = camera_.AtLevel(level);
+    const float scale = 1.f / static_cast<float>(1 << level);
+    tbb::parallel_for(size_t{0}, points_.size(), [&](size_t i) {
+      PointState& ps = points_[i];
+      const Point& p = map_->point(ps.id);
+      const Eigen::Vector2f px((p.pixel.x() + 0.5f) * scale - 0.5f, (p.pixel.y() + 0.5f) * scale - 0.5f);
+      ps.patch_ok = SampleHostPatch(map_->keyframe(cams_[ps.host]).pyramid, level, px, &ps.patch);
+    });
+  }
+
+  // Fits each camera's error model to the current residuals of the observations in it.
+  void FitModels() {
+    std::vector<std::vector<float>> residuals(cams_.size());
+    UpdatePairs();
+    for (const PointState& ps : points_) {
+      if (!ps.patch_ok) continue;
+      for (const ObsState& o : ps.obs) {
+        ObservationResiduals res;
+        if (!Evaluate(ps, o, false, &res)) continue;
+        for (int k = 0; k < kPatternSize; ++k) residuals[o.target].push_back(std::sqrt(res.weight_g[k]) * res.r[k]);
+      }
+    }
+    for (size_t c = 0; c < cams_.size(); ++c) {
+      models_[c] = FitErrorModel(residuals[c], options_.robust);
+      map_->keyframe(cams_[c]).error_model = models_[c];
+    }
+  }
+
+  // Builds the normal equations at the current state; decides which observations take part in
+  // this step (> skip ratio of bad pixels: weight 0). Returns the energy.
+  double Linearize(NormalEquations* eq) {
+    UpdatePairs();
+    const int n = NumCameras();
+    eq->Reset(n, NumPoints());
+    std::vector<std::vector<PairAccumulator>> chunk_pairs(kChunks, std::vector<PairAccumulator>(n * n));
+    std::vector<double> chunk_energy(kChunks, 0.0);
+    tbb::parallel_for(0, kChunks, [&](int chunk) {
+      const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
+      for (size_t i = begin; i < end; ++i) {
+        chunk_energy[chunk] += LinearizePoint(i, &chunk_pairs[chunk], &eq->points[i]);
+      }
+    });
+    double energy = 0.0;
+    for (int chunk = 0; chunk < kChunks; ++chunk) energy += chunk_energy[chunk];
+    for (int h = 0; h < n; ++h) {
+      for (int t = 0; t < n; ++t) {
+        const PairGeometry& g = pairs_[h * n + t];
+        if (!g.used) continue;
+        PairAccumulator sum;
+        for (int chunk = 0; chunk < kChunks; ++chunk) {
+          sum.H += chunk_pairs[chunk][h * n + t].H;
+          sum.b += chunk_pairs[chunk][h * n + t].b;
+        }
+        const int ih = kCameraParams * h, it = kCameraParams * t;
+        eq->H_cc.block<8, 8>(ih, ih) += g.A_host.transpose() * sum.H * g.A_host;
+        eq->H_cc.block<8, 8>(it, it) += g.A_target.transpose() * sum.H * g.A_target;
+        const Eigen::Matrix<double, 8, 8> ht = g.A_host.transpose() * sum.H * g.A_target;
+        eq->H_cc.block<8, 8>(ih, it) += ht;
+        eq->H_cc.block<8, 8>(it, ih) += ht.transpose();
+        eq->b_c.segment<8>(ih) += g.A_host.transpose() * sum.b;
+        eq->b_c.segment<8>(it) += g.A_target.transpose() * sum.b;
+      }
+    }
+    return energy;
+  }
+
+  // Energy at the current state with the current models and enabled observations.
+  double Energy() {
+    UpdatePairs();
+    std::vector<double> chunk_energy(kChunks, 0.0);
+    tbb::parallel_for(0, kChunks, [&](int chunk) {
+      const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
+      for (size_t i = begin; i < end; ++i) {
+        const PointState& ps = points_[i];
+        if (!ps.patch_ok) continue;
+        for (const ObsState& o : ps.obs) {
+          if (!o.enabled) continue;
+          ObservationResiduals res;
+          chunk_energy[chunk] += Evaluate(ps, o, false, &res) ? PixelEnergy(res, models_[o.target], nullptr)
+                                                              : InvalidEnergy(models_[o.target]);
+        }
+      }
+    });
+    double energy = 0.0;
+    for (double e : chunk_energy) energy += e;
+    return energy;
+  }
+
+  struct Backup {
+    std::vector<SE3d> poses;
+    std::vector<AffineBrightness> affine;
+    std::vector<float> idepth;
+  };
+  Backup Save() const {
+    Backup b;
+    for (int id : cams_) {
+      b.poses.push_back(map_->keyframe(id).cam_from_world);
+      b.affine.push_back(map_->keyframe(id).affine);
+    }
+    for (const auto& ps : points_) b.idepth.push_back(map_->point(ps.id).idepth);
+    return b;
+  }
+  void Restore(const Backup& b) {
+    for (size_t c = 0; c < cams_.size(); ++c) {
+      map_->keyframe(cams_[c]).cam_from_world = b.poses[c];
+      map_->keyframe(cams_[c]).affine = b.affine[c];
+    }
+    for (size_t i = 0; i < points_.size(); ++i) map_->point(points_[i].id).idepth = b.idepth[i];
+  }
+
+  // Applies the step; returns true when it is below the convergence thresholds.
+  bool Apply(const Solution& step) {
+    double max_rot = 0, max_trans = 0, max_a = 0, max_b = 0;
+    for (size_t c = 0; c < cams_.size(); ++c) {
+      if (fixed_[c]) continue;
+      const CameraVector d = step.cameras.segment<kCameraParams>(kCameraParams * c);
+      Keyframe& kf = map_->keyframe(cams_[c]);
+      kf.cam_from_world = SE3d::Exp(d.head<6>()) * kf.cam_from_world;
+      kf.affine.a += d(6);
+      kf.affine.b += d(7);
+      max_trans = std::max(max_trans, d.head<3>().norm());
+      max_rot = std::max(max_rot, d.segment<3>(3).norm());
+      max_a = std::max(max_a, std::abs(d(6)));
+      max_b = std::max(max_b, std::abs(d(7)));
+    }
+    double mean_idepth = 0.0;
+    for (size_t i = 0; i < points_.size(); ++i) {
+      float& rho = map_->point(points_[i].id).idepth;
+      rho = std::max(1e-4f, rho + static_cast<float>(step.points(i)));
+      mean_idepth += rho;
+    }
+    mean_idepth /= std::max<size_t>(1, points_.size());
+    return max_rot < options_.max_rotation_step && max_trans * mean_idepth < options_.max_translation_step &&
+           max_a < options_.max_a_step && max_b < options_.max_b_step;
+  }
+
+  // After the PBA: marks observations with too many bad pixels (level 0, fitted models).
+  int MarkOutliers() {
+    UpdatePairs();
+    int removed = 0;
+    for (PointState& ps : points_) {
+      Point& p = map_->point(ps.id);
+      for (ObsState& o : ps.obs) {
+        ObservationResiduals res;
+        int bad = kPatternSize;
+        if (ps.patch_ok && Evaluate(ps, o, false, &res)) PixelEnergy(res, models_[o.target], &bad);
+        Observation* obs = p.FindObservation(cams_[o.target]);
+        obs->inlier_ratio = 1.f - static_cast<float>(bad) / kPatternSize;
+        if (bad > options_.drop_outlier_ratio * kPatternSize) {
+          obs->outlier = true;
+          ++removed;
+        }
+      }
+    }
+    return removed;
+  }
+
+ private:
+  void UpdatePairs() {
+    const int n = NumCameras();
+    pairs_.assign(n * n, PairGeometry{});
+    for (const PointState& ps : points_)
+      for (const ObsState& o : ps.obs) pairs_[ps.host * n + o.target].used = true;
+    for (int h = 0; h < n; ++h) {
+      for (int t = 0; t < n; ++t) {
+        PairGeometry& g = pairs_[h * n + t];
+        if (!g.used) continue;
+        const SE3d T_th = map_->keyframe(cams_[t]).cam_from_world * map_->keyframe(cams_[h]).cam_from_world.Inverse();
+        g.R = T_th.Rotation().cast<float>();
+        g.t = T_th.Translation().cast<float>();
+        g.A_host.setZero();
+        g.A_host.topLeftCorner<6, 6>() = -T_th.Adj();
+        g.A_host(6, 6) = g.A_host(7, 7) = 1.0;
+        g.A_target.setZero();
+        g.A_target.topLeftCorner<6, 6>().setIdentity();
+        g.A_target(8, 6) = g.A_target(9, 7) = 1.0;
+      }
+    }
+  }
+
+  bool Evaluate(const PointState& ps, const ObsState& o, bool jacobians, ObservationResiduals* res) const {
+    const PairGeometry& g = pairs_[ps.host * NumCameras() + o.target];
+    const Keyframe& host = map_->keyframe(cams_[ps.host]);
+    const Keyframe& target = map_->keyframe(cams_[o.target]);
+    ObservationInput in;
+    in.camera = &level_camera_;
+    in.target = &target.pyramid;
+    in.level = level_;
+    in.R = g.R;
+    in.t = g.t;
+    in.idepth = map_->point(ps.id).idepth;
+    in.host_affine = host.affine;
+    in.target_affine = target.affine;
+    in.host_exposure = host.exposure;
+    in.target_exposure = target.exposure;
+    return EvaluateObservation(ps.patch, in, jacobians, res);
+  }
+
+  // Robust energy of the 8 pixels; counts pixels above the inlier threshold into *bad.
+  static double PixelEnergy(const ObservationResiduals& res, const ErrorModel& model, int* bad) {
+    double e = 0.0;
+    int n_bad = 0;
+    for (int k = 0; k < kPatternSize; ++k) {
+      const double r = std::sqrt(res.weight_g[k]) * res.r[k];
+      e += model.Energy(r);
+      n_bad += std::abs(r) > model.inlier_threshold;
+    }
+    if (bad) *bad = n_bad;
+    return e;
+  }
+  static double InvalidEnergy(const ErrorModel& model) { return kPatternSize * model.Energy(2.0 * model.inlier_threshold); }
+
+  double LinearizePoint(size_t i, std::vector<PairAccumulator>* pairs, NormalEquations::PointBlock* block) {
+    PointState& ps = points_[i];
+    if (!ps.patch_ok) return 0.0;
+    const int n = NumCameras();
+    double energy = 0.0;
+    for (ObsState& o : ps.obs) {
+      ObservationResiduals res;
+      const ErrorModel& model = models_[o.target];
+      if (!Evaluate(ps, o, true, &res)) {
+        o.enabled = true;
+        energy += InvalidEnergy(model);
+        continue;
+      }
+      int bad = 0;
+      const double e = PixelEnergy(res, model, &bad);
+      o.enabled = bad <= options_.skip_outlier_ratio * kPatternSize;
+      if (!o.enabled) continue;
+      energy += e;
+      // Per pixel: w = w_g * w_rho(sqrt(w_g) r).
+      Eigen::Matrix<double, kPatternSize, 10> Jx;
+      Jx << res.J_pose.cast<double>(), res.J_affine.cast<double>();
+      const Eigen::Matrix<double, kPatternSize, 1> Jr = res.J_idepth.cast<double>();
+      Eigen::Matrix<double, kPatternSize, 1> w, r;
+      for (int k = 0; k < kPatternSize; ++k) {
+        const double rk = res.r[k];
+        w(k) = res.weight_g[k] * model.Weight(std::sqrt(res.weight_g[k]) * rk);
+        r(k) = rk;
+      }
+      const Eigen::Matrix<double, 10, kPatternSize> JxtW = Jx.transpose() * w.asDiagonal();
+      PairAccumulator& acc = (*pairs)[ps.host * n + o.target];
+      acc.H.noalias() += JxtW * Jx;
+      acc.b.noalias() += JxtW * r;
+      const Vector10 h_xp = JxtW * Jr;
+      block->H_pp += Jr.dot(w.asDiagonal() * Jr);
+      block->b_p += Jr.dot(w.asDiagonal() * r);
+      const PairGeometry& g = pairs_[ps.host * n + o.target];
+      NormalEquations::AddCoupling(block, ps.host, g.A_host.transpose() * h_xp);
+      NormalEquations::AddCoupling(block, o.target, g.A_target.transpose() * h_xp);
+    }
+    return energy;
+  }
+
+  Map* map_;
+  PinholeCamera camera_;
+  PbaOptions options_;
+  std::vector<int> cams_;
+  std::vector<bool> fixed_;
+  std::vector<PointState> points_;
+  std::vector<ErrorModel> models_;
+  std::vector<PairGeometry> pairs_;
+  int level_ = 0;
+  PinholeCamera level_camera_;
+};
+
+}  // namespace
+
+PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  options.Validate();
+  PbaSummary summary;
+  Problem problem(map, camera, active, options);
+  summary.keyframes = problem.NumCameras();
+  summary.fixed_keyframes = problem.NumFixed();
+  summary.points = problem.NumPoints();
+  summary.observations = problem.NumObservations();
+  if (problem.NumPoints() == 0) return summary;
+  NormalEquations eq;
+  for (int level = options.levels - 1; level >= 0; --level) {
+    problem.SetLevel(level);
+    problem.FitModels();
+    double lambda = options.initial_lambda;
+    double energy = problem.Linearize(&eq);
+    if (level == 0) summary.initial_energy = energy;
+    for (int it = 0; it < options.max_iterations; ++it) {
+      ++summary.iterations;
+      const Problem::Backup backup = problem.Save();
+      const Solution step = SolveSchur(eq, lambda, problem.fixed());
+      const bool converged = problem.Apply(step);
+      const double new_energy = problem.Energy();
+      if (new_energy < energy) {
+        lambda = std::max(lambda * 0.25, 1e-8);
+        energy = problem.Linearize(&eq);
+        if (converged) break;
+      } else {
+        problem.Restore(backup);
+        lambda *= 8.0;
+        if (lambda > 1e4 || converged) break;
+      }
+    }
+    summary.final_energy = energy;
+  }
+  problem.SetLevel(0);
+  problem.FitModels();
+  summary.observations_removed = problem.MarkOutliers();
+  summary.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return summary;
+}
+
+}  // namespace dsm

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+// Photometric bundle adjustment (paper III-B, V): Levenberg–Marquardt over the active keyframes
+// (pose 6 + affine 2) and the points they host (inverse depth), coarse to fine over pyramid
+// levels, with per-keyframe robust error models and pixel-wise outlier masks.
+//
+//   E = sum_points sum_obs sum_k rho_t( sqrt(w_g) r_k )        (rho_t: the target keyframe's model)
+//
+// Gauge: keyframe 0 (the oldest of the map) never moves; keyframes observed by active points but
+// not active themselves are in the problem and fixed. The error model of every keyframe is
+// refitted at the start of each level and after the last one (stored in the keyframe).
+// Linearisation accumulates Hessian blocks per host–target keyframe pair in parallel chunks that
+// are summed in a fixed order, so results do not depend on the thread schedule.
+#pragma once
+
+#include <vector>
+
+#include "dsm/geometry/camera.h"
+#include "dsm/map/map.h"
+#include "dsm/photometric/robust.h"
+
+namespace dsm {
+
+struct PbaOptions {
+  int levels = 3;              // Pyramid levels, coarse to fine: levels-1 .. 0.
+  int max_iterations = 30;     // Per level.
+  double initial_lambda = 1e-4;
+  RobustOptions robust;
+  double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
+  double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
+  // Convergence: every component of the last step below these (translation scaled by the mean
+  // inverse depth of the points).
+  double max_rotation_step = 6e-5, max_translation_step = 6e-5, max_a_step = 6e-4, max_b_step = 0.06;
+
+  void Validate() const;  // Throws InputError naming the option.
+};
+
+struct PbaSummary {
+  int iterations = 0;
+  int keyframes = 0, fixed_keyframes = 0, points = 0, observations = 0;
+  double initial_energy = 0.0, final_energy = 0.0;  // Of the finest level (same models), before / after.
+  int observations_removed = 0;
+  double time_ms = 0.0;
+};
+
+// Optimises the keyframes `active` (ids) and their points. Returns what it did.
+PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options);
+
+}  // namespace dsm
