@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT
+// Frame tracking (paper VI-A): the pose and brightness of a new frame relative to the newest
+// keyframe, by direct image alignment of the window's points projected into that keyframe.
+//
+// Each point u of the reference (the keyframe) with inverse depth rho contributes its 8 pattern
+// pixels u_k, predicted in the frame at  u'_k = pi( T pi^-1(u_k, rho) ),  T = frame_from_keyframe:
+//   r_k = I_f(u'_k) - e^alpha I_r(u_k) - beta.
+// Inverse compositional Gauss–Newton/LM on the pose: the geometric Jacobian is taken on the
+// reference, J_k = -e^alpha grad I_r(u_k) J_pi(p_k) [I  -hat(p_k)], fixed per level; the update
+// is T <- T Exp(delta)^-1. (alpha, beta) are updated additively. Weights: gradient weight times
+// a Student-t fitted per level. Coarse to fine over the pyramid.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "dsm/geometry/camera.h"
+#include "dsm/image/pyramid.h"
+#include "dsm/lie/se3.h"
+#include "dsm/photometric/residual.h"
+#include "dsm/photometric/robust.h"
+
+namespace dsm {
+
+struct TrackerOptions {
+  int levels = 4;                               // Coarse to fine: levels-1 .. 0.
+  std::vector<int> iterations = {10, 20, 50, 75};  // Per level, index = level.
+  RobustOptions robust;
+  double min_usage = 0.1;                       // Lost below this share of usable points.
+
+  void Validate() const;
+};
+
+// A reference point: level-0 pixel in the keyframe and inverse depth.
+struct ReferencePoint {
+  Eigen::Vector2f pixel;
+  float idepth = 1.f;
+};
+
+struct TrackResult {
+  bool ok = false;
+  std::string reason;             // Why tracking failed, when it did.
+  SE3d frame_from_keyframe;
+  double alpha = 0.0, beta = 0.0; // I_f = e^alpha I_r + beta (relative brightness)
+  double rmse = 0.0;              // Of the gradient-weighted residuals at level 0.
+  double usage = 0.0;             // Share of reference points whose patch lands in the frame.
+  double visibility = 0.0;        // s_u = mean min(rho_kf / rho_frame, 1) (paper VI-B).
+  int iterations = 0;
+};
+
+class FrameTracker {
+ public:
+  explicit FrameTracker(const TrackerOptions& options);
+
+  // Sets the reference keyframe (its pyramid must outlive the tracker's use) and its points.
+  void SetReference(const ImagePyramid* keyframe, const PinholeCamera& camera, const std::vector<ReferencePoint>& points);
+  int NumReferencePoints() const { return static_cast<int>(points_.size()); }
+  // Mean inverse depth of the reference points (for the parallax score).
+  double MeanIdepth() const { return mean_idepth_; }
+
+  // Tracks `frame` starting at the guess. `exposure_ratio` = tau_frame / tau_keyframe (1 if
+  // unknown) folds known exposure into alpha's starting value.
+  TrackResult Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess) const;
+
+  // Energy of the guess at the coarsest level (to rank alternative guesses cheaply).
+  double CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const;
+
+ private:
+  struct LevelPoint {
+    Eigen::Vector3f q;   // K^-1 (u_k, 1) at the level
+    float idepth;
+    float ref_value;
+    float grad_weight;
+    Eigen::Matrix<float, 1, 6> J_geo;  // grad I_r J_pi [I -hat(p)] at the reference
+  };
+  struct LevelData {
+    PinholeCamera camera;
+    std::vector<LevelPoint> points;  // kPatternSize per reference point, in order
+    std::vector<int> owner;          // reference point of each
+  };
+
+  struct Accumulated {
+    Eigen::Matrix<double, 8, 8> H = Eigen::Matrix<double, 8, 8>::Zero();
+    Eigen::Matrix<double, 8, 1> b = Eigen::Matrix<double, 8, 1>::Zero();
+    double energy = 0.0;
+    int valid = 0, bad = 0;
+  };
+  Accumulated Evaluate(int level, const ImagePyramid& frame, const SE3d& T, double alpha, double beta,
+                       const ErrorModel& model, bool jacobians, std::vector<float>* residuals) const;
+
+  TrackerOptions options_;
+  std::vector<LevelData> levels_;
+  std::vector<ReferencePoint> points_;
+  double mean_idepth_ = 1.0;
+};
+
+}  // namespace dsm

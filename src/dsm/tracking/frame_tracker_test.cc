@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+// The tracker recovers a known pose offset between two rendered frames.
+#include "dsm/tracking/frame_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include "dsm/synth/renderer.h"
+
+namespace dsm {
+namespace {
+
+struct Rendered {
+  ImagePyramid pyramid;
+  Image<float> depth;
+};
+
+Rendered Render(const synth::SynthSequence& seq, int i) {
+  Image<float> albedo, depth;
+  synth::RenderFrame(seq.scene, seq.camera, seq.world_from_cam[i], &albedo, &depth);
+  synth::FormationOptions formation;
+  formation.noise_sigma = 1.0;
+  formation.noise_seed = 100 + i;
+  const Image<uint8_t> img = synth::FormImage(albedo, seq.photometry[i], formation);
+  Image<float> f(img.width(), img.height());
+  for (size_t k = 0; k < img.size(); ++k) f.data()[k] = img.data()[k];
+  return {ImagePyramid(f, 4), depth};
+}
+
+std::vector<ReferencePoint> GradientPoints(const Rendered& r) {
+  std::vector<ReferencePoint> points;
+  for (int y = 4; y < r.pyramid.height(0) - 4; y += 5)
+    for (int x = 4; x < r.pyramid.width(0) - 4; x += 5) {
+      const PixelGrad g = r.pyramid.level(0)(x, y);
+      if (g[1] * g[1] + g[2] * g[2] > 64.f && r.depth(x, y) > 0.f)
+        points.push_back({Eigen::Vector2f(x, y), 1.f / r.depth(x, y)});
+    }
+  return points;
+}
+
+void ExpectTracks(const std::string& scene, int ref, int cur, double max_trans_m, double max_rot_deg) {
+  synth::SynthOptions options;
+  options.scene = scene;
+  options.width = 320;
+  options.height = 240;
+  const synth::SynthSequence seq = synth::MakeSequence(options);
+  const Rendered a = Render(seq, ref), b = Render(seq, cur);
+  FrameTracker tracker{TrackerOptions{}};
+  tracker.SetReference(&a.pyramid, seq.camera, GradientPoints(a));
+  ASSERT_GT(tracker.NumReferencePoints(), 300);
+  const SE3d truth = seq.world_from_cam[cur].Inverse() * seq.world_from_cam[ref];
+  const TrackResult r = tracker.Track(b.pyramid, SE3d(), 0.0, 0.0);  // from the identity
+  ASSERT_TRUE(r.ok) << r.reason;
+  const SE3d err = r.frame_from_keyframe * truth.Inverse();
+  EXPECT_LT(err.Translation().norm(), max_trans_m) << scene << " true offset " << truth.Translation().norm();
+  EXPECT_LT(err.So3().Log().norm() * 180 / M_PI, max_rot_deg) << scene;
+  // Brightness: I_f = e^alpha I_r + beta with the scene's known photometry.
+  const synth::Photometry& pa = seq.photometry[ref];
+  const synth::Photometry& pb = seq.photometry[cur];
+  const double gain = (pb.gain * pb.exposure_ms) / (pa.gain * pa.exposure_ms);
+  EXPECT_NEAR(std::exp(r.alpha), gain, 0.02) << scene;
+  EXPECT_GT(r.usage, 0.8);
+}
+
+TEST(FrameTracker, RecoversAKnownOffsetFromTheIdentity) {
+  ExpectTracks("shake", 0, 4, 0.003, 0.1);
+  ExpectTracks("loop", 10, 13, 0.003, 0.1);
+  ExpectTracks("rotation", 60, 62, 0.003, 0.1);
+}
+
+TEST(FrameTracker, HandlesExposureChanges) { ExpectTracks("exposure", 100, 103, 0.004, 0.15); }
+
+}  // namespace
+}  // namespace dsm
