@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/mapping/candidate.h"
+
+#include <gtest/gtest.h>
+
+#include "dsm/mapping/candidate_selector.h"
+#include "dsm/synth/renderer.h"
+
+namespace dsm {
+namespace {
+
+struct Frame {
+  ImagePyramid pyramid;
+  Image<float> depth;
+};
+
+Frame Render(const synth::SynthSequence& seq, int i) {
+  Image<float> albedo, depth;
+  synth::RenderFrame(seq.scene, seq.camera, seq.world_from_cam[i], &albedo, &depth);
+  synth::FormationOptions formation;
+  formation.noise_sigma = 1.0;
+  formation.noise_seed = i;
+  const Image<uint8_t> img = synth::FormImage(albedo, seq.photometry[i], formation);
+  Image<float> f(img.width(), img.height());
+  for (size_t k = 0; k < img.size(); ++k) f.data()[k] = img.data()[k];
+  return {ImagePyramid(f, 4), depth};
+}
+
+synth::SynthSequence Sequence(const std::string& scene) {
+  synth::SynthOptions options;
+  options.scene = scene;
+  options.width = 320;
+  options.height = 240;
+  return synth::MakeSequence(options);
+}
+
+TEST(CandidateSelector, HitsTheTargetCountWellSpread) {
+  const auto seq = Sequence("loop");
+  const Frame f = Render(seq, 20);
+  CandidateSelectorOptions options;
+  options.target_count = 600;
+  const auto selected = SelectCandidates(f.pyramid, options);
+  EXPECT_GT(selected.size(), 0.85 * 600);
+  EXPECT_LT(selected.size(), 1.15 * 600);
+  // Spread: every 80 x 80 region holds candidates.
+  for (int by = 0; by < 3; ++by)
+    for (int bx = 0; bx < 4; ++bx) {
+      int n = 0;
+      for (const auto& s : selected) n += int(s.pixel.x()) / 80 == bx && int(s.pixel.y()) / 80 == by;
+      EXPECT_GT(n, 5) << bx << " " << by;
+    }
+}
+
+TEST(Candidate, EpipolarSearchFindsTheTrueDepth) {
+  const auto seq = Sequence("shake");
+  const Frame host = Render(seq, 0), frame = Render(seq, 8);
+  const SE3d frame_from_host = seq.world_from_cam[8].Inverse() * seq.world_from_cam[0];
+  CandidateSelectorOptions options;
+  options.target_count = 400;
+  int good = 0, contained = 0, total = 0;
+  for (const auto& s : SelectCandidates(host.pyramid, options)) {
+    Candidate c;
+    if (!MakeCandidate(host.pyramid, s.pixel, &c)) continue;
+    const float true_idepth = 1.f / host.depth(int(s.pixel.x()), int(s.pixel.y()));
+    ++total;
+    if (TraceCandidate(&c, frame.pyramid, seq.camera, frame_from_host, {}, EpipolarOptions{}) != TraceStatus::kGood) continue;
+    ++good;
+    // The interval (widened by 10% for interpolation effects) holds the true inverse depth.
+    const float margin = 0.1f * (c.idepth_max - c.idepth_min) + 0.01f * true_idepth;
+    contained += true_idepth >= c.idepth_min - margin && true_idepth <= c.idepth_max + margin;
+  }
+  EXPECT_GT(good, 0.6 * total);
+  EXPECT_GT(contained, 0.9 * good) << good << " good of " << total;
+}
+
+TEST(Candidate, SecondTraceNarrowsTheInterval) {
+  const auto seq = Sequence("shake");
+  const Frame host = Render(seq, 0), f1 = Render(seq, 4), f2 = Render(seq, 12);
+  CandidateSelectorOptions options;
+  options.target_count = 200;
+  int narrowed = 0, good = 0;
+  for (const auto& s : SelectCandidates(host.pyramid, options)) {
+    Candidate c;
+    if (!MakeCandidate(host.pyramid, s.pixel, &c)) continue;
+    if (TraceCandidate(&c, f1.pyramid, seq.camera, seq.world_from_cam[4].Inverse() * seq.world_from_cam[0], {}, {}) !=
+        TraceStatus::kGood)
+      continue;
+    const float first = c.idepth_max - c.idepth_min;
+    if (TraceCandidate(&c, f2.pyramid, seq.camera, seq.world_from_cam[12].Inverse() * seq.world_from_cam[0], {}, {}) !=
+        TraceStatus::kGood)
+      continue;
+    ++good;
+    narrowed += (c.idepth_max - c.idepth_min) < first;
+  }
+  EXPECT_GT(good, 50);
+  EXPECT_GT(narrowed, 0.7 * good);
+}
+
+}  // namespace
+}  // namespace dsm
