@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/tracking/initializer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "dsm/util/check.h"
+
+namespace dsm {
+
+void InitializerOptions::Validate() const {
+  if (max_corners < 50) throw InputError("initializer.max_corners must be at least 50");
+  if (!(min_parallax_deg > 0)) throw InputError("initializer.min_parallax_deg must be positive");
+  if (!(max_homography_ratio > 0 && max_homography_ratio <= 1)) throw InputError("initializer.max_homography_ratio must be in (0, 1]");
+  if (min_inliers < 8) throw InputError("initializer.min_inliers must be at least 8");
+  if (!(ransac_threshold_px > 0)) throw InputError("initializer.ransac_threshold_px must be positive");
+}
+
+namespace {
+
+Image<uint8_t> ToGray8(const Image<float>& f) {
+  Image<uint8_t> g(f.width(), f.height());
+  for (size_t i = 0; i < f.size(); ++i) g.data()[i] = static_cast<uint8_t>(std::clamp(std::lround(f.data()[i]), 0L, 255L));
+  return g;
+}
+
+cv::Mat Wrap(const Image<uint8_t>& img) {
+  return cv::Mat(img.height(), img.width(), CV_8UC1, const_cast<uint8_t*>(img.data()));
+}
+
+double Median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+Initializer::Initializer(const InitializerOptions& options) : options_(options) { options_.Validate(); }
+
+void Initializer::SetReference(const Image<float>& image, const PinholeCamera& camera) {
+  camera_ = camera;
+  previous_ = ToGray8(image);
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(Wrap(previous_), corners, options_.max_corners, 0.005, 8.0);
+  reference_corners_.clear();
+  for (const auto& c : corners) reference_corners_.emplace_back(c.x, c.y);
+  current_corners_ = reference_corners_;
+  alive_.assign(reference_corners_.size(), true);
+  has_reference_ = true;
+}
+
+int Initializer::NumTracks() const { return static_cast<int>(std::count(alive_.begin(), alive_.end(), true)); }
+
+InitResult Initializer::AddFrame(const Image<float>& image) {
+  DSM_CHECK(has_reference_, "initializer needs a reference frame");
+  InitResult result;
+  const Image<uint8_t> gray = ToGray8(image);
+  std::vector<cv::Point2f> prev_pts, next_pts;
+  std::vector<int> ids;
+  for (size_t i = 0; i < alive_.size(); ++i) {
+    if (!alive_[i]) continue;
+    prev_pts.emplace_back(current_corners_[i].x(), current_corners_[i].y());
+    ids.push_back(static_cast<int>(i));
+  }
+  if (!prev_pts.empty()) {
+    std::vector<uchar> status;
+    std::vector<float> error;
+    cv::calcOpticalFlowPyrLK(Wrap(previous_), Wrap(gray), prev_pts, next_pts, status, error, cv::Size(21, 21), 3);
+    // Forward-backward check removes drifting tracks.
+    std::vector<cv::Point2f> back_pts;
+    std::vector<uchar> back_status;
+    cv::calcOpticalFlowPyrLK(Wrap(gray), Wrap(previous_), next_pts, back_pts, back_status, error, cv::Size(21, 21), 3);
+    for (size_t k = 0; k < ids.size(); ++k) {
+      const bool inside = next_pts[k].x >= 0 && next_pts[k].y >= 0 && next_pts[k].x < gray.width() - 1 &&
+                          next_pts[k].y < gray.height() - 1;
+      const bool consistent = back_status[k] && std::hypot(back_pts[k].x - prev_pts[k].x, back_pts[k].y - prev_pts[k].y) < 1.0;
+      if (!status[k] || !inside || !consistent) {
+        alive_[ids[k]] = false;
+      } else {
+        current_corners_[ids[k]] = Eigen::Vector2f(next_pts[k].x, next_pts[k].y);
+      }
+    }
+  }
+  previous_ = gray;
+
+  std::vector<cv::Point2f> ref, cur;
+  std::vector<int> track_ids;
+  for (size_t i = 0; i < alive_.size(); ++i) {
+    if (!alive_[i]) continue;
+    ref.emplace_back(reference_corners_[i].x(), reference_corners_[i].y());
+    cur.emplace_back(current_corners_[i].x(), current_corners_[i].y());
+    track_ids.push_back(static_cast<int>(i));
+  }
+  if (static_cast<int>(ref.size()) < options_.min_inliers) {
+    result.reason = "too few tracks (" + std::to_string(ref.size()) + ")";
+    return result;
+  }
+  const cv::Mat K = (cv::Mat_<double>(3, 3) << camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
+  cv::Mat e_mask, h_mask;
+  const cv::Mat E = cv::findEssentialMat(ref, cur, K, cv::RANSAC, 0.999, options_.ransac_threshold_px, e_mask);
+  if (E.rows != 3 || E.cols != 3) {
+    result.reason = "no essential matrix";
+    return result;
+  }
+  cv::Mat R, t, pose_mask = e_mask.clone();
+  const int in_front = cv::recoverPose(E, ref, cur, K, R, t, pose_mask);
+  const cv::Mat H = cv::findHomography(ref, cur, cv::RANSAC, 2.0 * options_.ransac_threshold_px, h_mask);
+  const int e_inliers = cv::countNonZero(e_mask);
+  const int h_inliers = H.empty() ? 0 : cv::countNonZero(h_mask);
+  result.homography_ratio = e_inliers > 0 ? static_cast<double>(h_inliers) / e_inliers : 1.0;
+  if (in_front < options_.min_inliers) {
+    result.reason = "too few essential-matrix inliers in front of the cameras (" + std::to_string(in_front) + ")";
+    return result;
+  }
+  // Triangulate the inliers (reference = identity) and measure the parallax.
+  Eigen::Matrix3d Re;
+  Eigen::Vector3d te;
+  for (int r = 0; r < 3; ++r) {
+    te(r) = t.at<double>(r);
+    for (int c = 0; c < 3; ++c) Re(r, c) = R.at<double>(r, c);
+  }
+  const SE3d cur_from_ref(SO3d(Re), te);  // |t| = 1
+  result.current_from_reference = cur_from_ref;
+  std::vector<double> parallax, depth;
+  std::vector<InitPoint> points;
+  const Eigen::Vector3d centre_cur = cur_from_ref.Inverse().Translation();
+  for (size_t k = 0; k < ref.size(); ++k) {
+    if (!pose_mask.at<uchar>(static_cast<int>(k))) continue;
+    const Eigen::Vector3d d0 = camera_.Unproject(ref[k].x, ref[k].y).normalized();
+    const Eigen::Vector3d d1 = (Re.transpose() * camera_.Unproject(cur[k].x, cur[k].y)).normalized();  // in ref frame
+    // Midpoint triangulation: rays c0 + s d0 and c1 + u d1.
+    const Eigen::Vector3d c1 = centre_cur;
+    const double b = d0.dot(d1);
+    const double denom = 1.0 - b * b;
+    if (denom < 1e-12) continue;
+    const Eigen::Vector3d w = -c1;  // c0 - c1
+    const double s = (b * d1.dot(w) - d0.dot(w)) / denom;
+    const double u = (d1.dot(w) - b * d0.dot(w)) / denom;
+    if (s <= 0 || u <= 0) continue;
+    const Eigen::Vector3d p = 0.5 * (s * d0 + c1 + u * d1);
+    if (p.z() <= 0) continue;
+    parallax.push_back(std::acos(std::clamp(b, -1.0, 1.0)) * 180.0 / M_PI);
+    depth.push_back(p.z());
+    points.push_back({Eigen::Vector2f(ref[k].x, ref[k].y), static_cast<float>(1.0 / p.z())});
+  }
+  if (static_cast<int>(points.size()) < options_.min_inliers) {
+    result.reason = "too few triangulated points (" + std::to_string(points.size()) + ")";
+    return result;
+  }
+  result.parallax_deg = Median(parallax);
+
+  if (result.parallax_deg < options_.min_parallax_deg) {
+    result.reason = "too little parallax (" + std::to_string(result.parallax_deg) + " deg)";
+    return result;
+  }
+  if (result.homography_ratio > options_.max_homography_ratio) {
+    result.reason = "a homography explains the motion (ratio " + std::to_string(result.homography_ratio) + ")";
+    return result;
+  }
+  // Scale: median depth 1.
+  const double scale = 1.0 / Median(depth);
+  for (InitPoint& p : points) p.idepth = static_cast<float>(p.idepth / scale);
+  result.current_from_reference = SE3d(cur_from_ref.So3(), cur_from_ref.Translation() * scale);
+  result.points = std::move(points);
+  result.ok = true;
+  return result;
+}
+
+}  // namespace dsm

@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+// Monocular map initialisation from the first frames.
+//
+// Corners of the reference frame are tracked frame to frame (pyramidal KLT). For each new frame
+// the relative motion is estimated from the tracks with an essential matrix (RANSAC) and checked
+// against a homography: a motion is accepted only when
+//   * enough tracks are inliers of the essential matrix and in front of both cameras,
+//   * the median triangulation angle (parallax) exceeds `min_parallax_deg`,
+//   * the homography does not explain the tracks nearly as well (pure rotation, or too little
+//     parallax for the essential matrix to mean anything).
+// Otherwise it waits for more motion. The translation is scaled so that the median depth of the
+// triangulated points in the reference frame is 1.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dsm/geometry/camera.h"
+#include "dsm/image/image.h"
+#include "dsm/lie/se3.h"
+
+namespace dsm {
+
+struct InitializerOptions {
+  int max_corners = 800;
+  double min_parallax_deg = 1.5;
+  double max_homography_ratio = 0.9;  // Refuse when H inliers / E inliers exceed this.
+  int min_inliers = 60;
+  double ransac_threshold_px = 1.0;
+
+  void Validate() const;
+};
+
+struct InitPoint {
+  Eigen::Vector2f pixel;  // In the reference frame, level 0.
+  float idepth = 1.f;
+};
+
+struct InitResult {
+  bool ok = false;
+  std::string reason;             // Why this frame did not initialise.
+  SE3d current_from_reference;
+  std::vector<InitPoint> points;  // Triangulated inliers.
+  double parallax_deg = 0.0;
+  double homography_ratio = 0.0;
+};
+
+class Initializer {
+ public:
+  explicit Initializer(const InitializerOptions& options);
+
+  // Starts over with `image` (undistorted, level 0) as the reference frame.
+  void SetReference(const Image<float>& image, const PinholeCamera& camera);
+  bool HasReference() const { return has_reference_; }
+  int NumTracks() const;
+
+  // Tracks the corners into `image` and tries to initialise.
+  InitResult AddFrame(const Image<float>& image);
+
+ private:
+  InitializerOptions options_;
+  PinholeCamera camera_;
+  bool has_reference_ = false;
+  std::vector<Eigen::Vector2f> reference_corners_;
+  std::vector<Eigen::Vector2f> current_corners_;
+  std::vector<bool> alive_;
+  Image<uint8_t> previous_;
+};
+
+}  // namespace dsm
