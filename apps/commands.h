@@ -14,5 +14,6 @@ using Command = std::function<int()>;
 Command AddInfo(CLI::App& app);
 Command AddEval(CLI::App& app);
 Command AddSynth(CLI::App& app);
+Command AddRun(CLI::App& app);
 
 }  // namespace dsm::cli

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     CLI::App* sub = app.add_subcommand(name, help);
     commands[sub] = adder(*sub);
   };
+  add("run", "Run SLAM on a dataset; writes trajectories, statistics and evaluation", dsm::cli::AddRun);
   add("info", "Describe a dataset: format, frames, camera, ground truth", dsm::cli::AddInfo);
   add("eval", "Compare an estimated trajectory with a reference (APE, RPE)", dsm::cli::AddEval);
   add("synth", "Render a synthetic sequence with exact ground truth", dsm::cli::AddSynth);

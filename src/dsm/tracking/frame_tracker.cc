@@ -160,9 +160,10 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
     const Eigen::Vector3d q = cam.Unproject(p.pixel.x(), p.pixel.y());
     const Eigen::Vector3d ps = R * q + T.Translation() * p.idepth;  // = rho p_frame
     if (ps.z() <= 0) continue;
-    visibility += std::min(ps.z(), 1.0);
     const Eigen::Vector2d u = cam.Project(ps);
-    usable += frame.InBounds(0, static_cast<float>(u.x()), static_cast<float>(u.y()), 4.f);
+    if (!frame.InBounds(0, static_cast<float>(u.x()), static_cast<float>(u.y()), 4.f)) continue;
+    ++usable;
+    visibility += std::min(ps.z(), 1.0);  // rho_kf / rho_frame, capped at 1
   }
   result.usage = static_cast<double>(usable) / points_.size();
   result.visibility = visibility / points_.size();

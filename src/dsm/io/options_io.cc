@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/io/options_io.h"
+
+#include <functional>
+#include <map>
+
+#include <yaml-cpp/yaml.h>
+
+#include "dsm/util/check.h"
+
+namespace dsm {
+
+namespace {
+
+using Setter = std::function<void(const YAML::Node&)>;
+
+template <typename T>
+Setter Set(T* field) {
+  return [field](const YAML::Node& n) { *field = n.as<T>(); };
+}
+
+std::map<std::string, Setter> Setters(SystemOptions* o) {
+  std::map<std::string, Setter> s;
+  s["system.pyramid_levels"] = Set(&o->pyramid_levels);
+  s["system.max_initialization_frames"] = Set(&o->max_initialization_frames);
+  s["initializer.max_corners"] = Set(&o->initializer.max_corners);
+  s["initializer.min_parallax_deg"] = Set(&o->initializer.min_parallax_deg);
+  s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);
+  s["initializer.min_inliers"] = Set(&o->initializer.min_inliers);
+  s["initializer.ransac_threshold_px"] = Set(&o->initializer.ransac_threshold_px);
+  s["tracker.levels"] = Set(&o->tracker.levels);
+  s["tracker.iterations"] = Set(&o->tracker.iterations);
+  s["tracker.min_usage"] = Set(&o->tracker.min_usage);
+  s["candidates.target_count"] = Set(&o->candidates.target_count);
+  s["candidates.threshold_margin"] = Set(&o->candidates.threshold_margin);
+  s["candidates.border"] = Set(&o->candidates.border);
+  s["epipolar.max_search_fraction"] = Set(&o->epipolar.max_search_fraction);
+  s["epipolar.min_search_px"] = Set(&o->epipolar.min_search_px);
+  s["epipolar.max_pixel_error"] = Set(&o->epipolar.max_pixel_error);
+  s["epipolar.max_energy"] = Set(&o->epipolar.max_energy);
+  s["activation.target_points"] = Set(&o->activation.target_points);
+  s["activation.max_pixel_interval"] = Set(&o->activation.max_pixel_interval);
+  s["activation.min_quality"] = Set(&o->activation.min_quality);
+  s["activation.refine_iterations"] = Set(&o->activation.refine_iterations);
+  s["activation.min_inlier_ratio"] = Set(&o->activation.min_inlier_ratio);
+  s["activation.initial_min_distance_px"] = Set(&o->activation.initial_min_distance_px);
+  s["keyframe.weight_parallax"] = Set(&o->keyframe.weight_parallax);
+  s["keyframe.weight_visibility"] = Set(&o->keyframe.weight_visibility);
+  s["keyframe.weight_brightness"] = Set(&o->keyframe.weight_brightness);
+  s["keyframe.residual_growth"] = Set(&o->keyframe.residual_growth);
+  s["window.temporal_keyframes"] = Set(&o->window.temporal_keyframes);
+  s["window.min_visible_ratio"] = Set(&o->window.min_visible_ratio);
+  s["window.max_affine_change"] = Set(&o->window.max_affine_change);
+  s["pba.levels"] = Set(&o->pba.levels);
+  s["pba.max_iterations"] = Set(&o->pba.max_iterations);
+  s["pba.initial_lambda"] = Set(&o->pba.initial_lambda);
+  s["pba.drop_outlier_ratio"] = Set(&o->pba.drop_outlier_ratio);
+  s["pba.skip_outlier_ratio"] = Set(&o->pba.skip_outlier_ratio);
+  // The robust function applies to the bundle adjustment and the tracker alike.
+  s["robust.function"] = [o](const YAML::Node& n) {
+    const RobustKind kind = ParseRobustKind(n.as<std::string>(), "robust.function");
+    o->pba.robust.kind = kind;
+    o->tracker.robust.kind = kind;
+  };
+  s["robust.huber_threshold"] = [o](const YAML::Node& n) {
+    o->pba.robust.huber_threshold = o->tracker.robust.huber_threshold = n.as<double>();
+  };
+  s["robust.inlier_quantile"] = [o](const YAML::Node& n) {
+    o->pba.robust.inlier_quantile = o->tracker.robust.inlier_quantile = n.as<double>();
+  };
+  return s;
+}
+
+}  // namespace
+
+void ApplyOptionsYaml(const std::filesystem::path& path, SystemOptions* options) {
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path.string() + ": file not found");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path.string());
+  } catch (const YAML::Exception& e) {
+    throw InputError(path.string() + ": YAML error: " + e.what());
+  }
+  if (root.IsNull()) return;
+  if (!root.IsMap()) throw InputError(path.string() + ": expected a mapping of sections");
+  const auto setters = Setters(options);
+  for (const auto& section : root) {
+    const std::string name = section.first.as<std::string>();
+    if (!section.second.IsMap()) throw InputError(path.string() + ": section '" + name + "' must be a mapping");
+    for (const auto& kv : section.second) {
+      const std::string key = name + "." + kv.first.as<std::string>();
+      const auto it = setters.find(key);
+      if (it == setters.end()) throw InputError(path.string() + ": unknown key '" + key + "'");
+      try {
+        it->second(kv.second);
+      } catch (const YAML::Exception&) {
+        throw InputError(path.string() + ": key '" + key + "' has the wrong type");
+      }
+    }
+  }
+  try {
+    options->Validate();
+  } catch (const InputError& e) {
+    throw InputError(path.string() + ": " + e.what());
+  }
+}
+
+}  // namespace dsm

@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: MIT
+// Option files: a YAML mapping of sections to values, e.g.
+//   window: {temporal_keyframes: 5}
+//   pba: {levels: 2}
+//   robust: {function: huber}
+// Unknown sections or keys and values of the wrong type are rejected with a message naming the
+// file and the key.
+#pragma once
+
+#include <filesystem>
+
+#include "dsm/system/options.h"
+
+namespace dsm {
+
+void ApplyOptionsYaml(const std::filesystem::path& path, SystemOptions* options);
+
+}  // namespace dsm

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// Running the system over a dataset and writing what a user evaluates:
+//   keyframes.tum, frames.tum   world_from_cam poses (TUM format, nanosecond timestamps)
+//   stats.json                  counts, timings, map size
+//   eval.json                   Sim(3)-aligned ATE of keyframes and frames (with ground truth)
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "dsm/io/dataset.h"
+#include "dsm/system/options.h"
+
+namespace dsm {
+
+struct RunOptions {
+  SystemOptions system;
+  int start = 0;   // First frame index.
+  int end = -1;    // One past the last frame (-1: to the end).
+  bool quiet = false;
+};
+
+struct RunSummary {
+  nlohmann::json stats;
+  std::optional<nlohmann::json> eval;  // {"keyframes": ..., "frames": ...}
+  std::string line;                    // One-line summary.
+};
+
+// Throws InputError for bad ranges or unreadable frames (naming the file).
+RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const std::filesystem::path& out_dir);
+
+}  // namespace dsm

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// All options of the system in one validated struct (nested per component).
+#pragma once
+
+#include <string>
+
+#include "dsm/mapping/activation.h"
+#include "dsm/mapping/candidate.h"
+#include "dsm/mapping/candidate_selector.h"
+#include "dsm/mapping/keyframe_decision.h"
+#include "dsm/mapping/window.h"
+#include "dsm/optimization/pba.h"
+#include "dsm/tracking/frame_tracker.h"
+#include "dsm/tracking/initializer.h"
+
+namespace dsm {
+
+enum class MapMode {
+  kSlidingWindow,  // DSM-SW: temporal window only.
+  kFull,           // DSM: temporal + covisible keyframes (not available yet).
+};
+
+struct SystemOptions {
+  MapMode mode = MapMode::kSlidingWindow;
+  int pyramid_levels = 5;          // Image pyramid (the undistorted size divides by 2^(levels-1)).
+  int max_initialization_frames = 40;  // Frames on one initialiser reference before it restarts.
+  InitializerOptions initializer;
+  TrackerOptions tracker;
+  CandidateSelectorOptions candidates;
+  EpipolarOptions epipolar;
+  ActivationOptions activation;
+  KeyframeOptions keyframe;
+  WindowOptions window;
+  PbaOptions pba;
+
+  // Throws InputError naming the first invalid option (including rules across options).
+  void Validate() const;
+};
+
+}  // namespace dsm

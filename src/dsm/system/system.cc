@@ -1,0 +1,256 @@
+// SPDX-License-Identifier: MIT
+// Frame processing: initialisation and tracking. Keyframe mapping is in system_mapping.cc.
+#include "dsm/system/system.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "dsm/tracking/frame_tracker.h"
+#include "dsm/tracking/initializer.h"
+#include "dsm/util/check.h"
+
+namespace dsm {
+
+namespace {
+
+double MsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// T^s on the geodesic from the identity.
+SE3d Scale(const SE3d& T, double s) { return SE3d::Exp(s * T.Log()); }
+
+}  // namespace
+
+std::string TrackingStatusName(TrackingStatus status) {
+  switch (status) {
+    case TrackingStatus::kInitializing: return "initializing";
+    case TrackingStatus::kOk: return "ok";
+    case TrackingStatus::kLost: return "lost";
+  }
+  return "?";
+}
+
+System::System(const PinholeCamera& camera, const SystemOptions& options)
+    : camera_(camera), options_(options), min_activation_distance_px_(options.activation.initial_min_distance_px) {
+  options_.Validate();
+  const int div = 1 << (options_.pyramid_levels - 1);
+  if (camera.width % div || camera.height % div) {
+    throw InputError("the undistorted image size " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                     " must divide by 2^(pyramid_levels - 1) = " + std::to_string(div));
+  }
+  initializer_ = std::make_unique<Initializer>(options_.initializer);
+  tracker_ = std::make_unique<FrameTracker>(options_.tracker);
+}
+
+System::~System() = default;
+
+FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms) {
+  DSM_CHECK(image.width() == camera_.width && image.height() == camera_.height, "frame size differs from the camera");
+  ++stats_.frames;
+  const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
+  if (map_.NumKeyframes() == 0) return Initialize(index, t_ns, image, exposure);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  FrameReport report;
+  report.index = index;
+  auto pyramid = std::make_unique<ImagePyramid>(image, options_.pyramid_levels);
+  TrackResult result;
+  if (!TrackFrame(*pyramid, exposure, &result)) {
+    report.status = TrackingStatus::kLost;
+    report.reason = result.reason;
+    report.tracking_ms = MsSince(t0);
+    frames_.push_back({t_ns, -1, SE3d()});
+    return report;
+  }
+  report.status = TrackingStatus::kOk;
+  ++stats_.frames_tracked;
+  frames_.push_back({t_ns, reference_, result.frame_from_keyframe});
+  TraceCandidates(*pyramid, result.frame_from_keyframe, result.alpha, result.beta, exposure);
+
+  const Keyframe& ref = map_.keyframe(reference_);
+  if (first_rmse_after_keyframe_ == 0.0) first_rmse_after_keyframe_ = result.rmse;
+  KeyframeScores scores;
+  scores.parallax = result.frame_from_keyframe.Translation().norm() * tracker_->MeanIdepth();
+  scores.visibility = result.visibility;
+  scores.brightness = std::abs(result.alpha - std::log(exposure / ref.exposure));
+  scores.rmse = result.rmse;
+  scores.first_rmse = first_rmse_after_keyframe_;
+  report.tracking_ms = MsSince(t0);
+  stats_.tracking_ms.push_back(report.tracking_ms);
+  if (!ShouldCreateKeyframe(scores, options_.keyframe)) return report;
+
+  const auto t1 = std::chrono::steady_clock::now();
+  // Absolute brightness of the frame from the tracked relative one (see TraceCandidates).
+  AffineBrightness affine;
+  affine.a = ref.affine.a + result.alpha - std::log(exposure / ref.exposure);
+  affine.b = result.beta + std::exp(result.alpha) * ref.affine.b;
+  CreateKeyframe(index, t_ns, std::move(pyramid), exposure, result.frame_from_keyframe * ref.cam_from_world, affine);
+  const int kf = map_.NumKeyframes() - 1;
+  frames_.back() = {t_ns, kf, SE3d()};
+  MapNewKeyframe(kf);
+  report.keyframe = true;
+  report.mapping_ms = MsSince(t1);
+  stats_.mapping_ms.push_back(report.mapping_ms);
+  return report;
+}
+
+FrameReport System::Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure) {
+  FrameReport report;
+  report.index = index;
+  report.status = TrackingStatus::kInitializing;
+  const auto t0 = std::chrono::steady_clock::now();
+  PendingFrame frame{index, t_ns, exposure, std::make_unique<ImagePyramid>(image, options_.pyramid_levels), image};
+  if (!initializer_->HasReference() || static_cast<int>(pending_.size()) >= options_.max_initialization_frames) {
+    // (Re)start on this frame; frames waiting on an older reference stay untracked.
+    for (const PendingFrame& p : pending_) frames_.push_back({p.t_ns, -1, SE3d()});
+    pending_.clear();
+    initializer_->SetReference(image, camera_);
+    pending_.push_back(std::move(frame));
+    report.reason = "waiting for motion";
+    return report;
+  }
+  const InitResult init = initializer_->AddFrame(image);
+  pending_.push_back(std::move(frame));
+  if (!init.ok) {
+    report.reason = init.reason;
+    return report;
+  }
+  StartMap(init);
+  report.status = TrackingStatus::kOk;
+  report.keyframe = true;
+  report.mapping_ms = MsSince(t0);
+  stats_.mapping_ms.push_back(report.mapping_ms);
+  return report;
+}
+
+void System::StartMap(const InitResult& init) {
+  stats_.initialized_at_frame = pending_.back().index;
+  PendingFrame& first = pending_.front();
+  PendingFrame& last = pending_.back();
+  CreateKeyframe(first.index, first.t_ns, std::move(first.pyramid), first.exposure, SE3d(), AffineBrightness{});
+  CreateKeyframe(last.index, last.t_ns, std::move(last.pyramid), last.exposure, init.current_from_reference,
+                 AffineBrightness{});
+  // Points triangulated by the initialiser, hosted by keyframe 0.
+  for (const InitPoint& ip : init.points) {
+    Point p;
+    p.host = 0;
+    p.pixel = ip.pixel;
+    p.idepth = ip.idepth;
+    p.created_at_keyframe = 2;
+    HostPatch patch;
+    if (!SampleHostPatch(map_.keyframe(0).pyramid, 0, p.pixel, &patch)) continue;
+    map_.AddPoint(p);
+  }
+  SelectCandidates(0);
+  // Candidates of keyframe 0 traced in keyframe 1 with the initial pose.
+  window_ = {0};
+  reference_ = 0;
+  // Brightness guess: only the exposure changed (alpha = log(tau_1 / tau_0), so a_1 = 0).
+  TraceCandidates(map_.keyframe(1).pyramid, init.current_from_reference, std::log(last.exposure / first.exposure), 0.0,
+                  last.exposure);
+  frames_.push_back({first.t_ns, 0, SE3d()});
+  MapNewKeyframe(1);
+  stats_.frames_tracked += 2;
+
+  // The frames between the two keyframes, tracked now against keyframe 1.
+  const int k = static_cast<int>(pending_.size()) - 1;
+  const SE3d kf1_from_kf0 = init.current_from_reference;
+  for (int i = 1; i < k; ++i) {
+    const SE3d guess = Scale(kf1_from_kf0, static_cast<double>(i) / k) * kf1_from_kf0.Inverse();
+    const TrackResult r = tracker_->Track(*pending_[i].pyramid, guess, 0.0, 0.0);
+    if (r.ok) {
+      ++stats_.frames_tracked;
+      frames_.push_back({pending_[i].t_ns, reference_, r.frame_from_keyframe});
+    } else {
+      frames_.push_back({pending_[i].t_ns, -1, SE3d()});
+    }
+  }
+  frames_.push_back({last.t_ns, 1, SE3d()});
+  std::stable_sort(frames_.begin(), frames_.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
+  velocity_ = k > 0 ? Scale(kf1_from_kf0, 1.0 / k) : SE3d();
+  last_exposure_ = last.exposure;
+  pending_.clear();
+}
+
+bool System::TrackFrame(const ImagePyramid& pyramid, double exposure, TrackResult* result) {
+  // Relative brightness guess: the last one, corrected for the change of exposure time.
+  const double alpha_guess = last_alpha_ + std::log(exposure / last_exposure_);
+  // Guesses of frame_from_reference: constant velocity first, then alternatives.
+  const SE3d last = last_frame_from_reference_;
+  std::vector<SE3d> guesses = {velocity_ * last, last, velocity_ * velocity_ * last, Scale(velocity_, 0.5) * last};
+  for (double angle : {0.02, -0.02}) {
+    for (int axis = 0; axis < 3; ++axis) {
+      Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
+      xi(3 + axis) = angle;
+      guesses.push_back(SE3d::Exp(xi) * velocity_ * last);
+    }
+  }
+  std::vector<std::pair<double, int>> ranked;
+  for (size_t g = 0; g < guesses.size(); ++g)
+    ranked.emplace_back(tracker_->CoarseEnergy(pyramid, guesses[g], alpha_guess, last_beta_), static_cast<int>(g));
+  // Constant velocity stays first unless another guess is clearly better.
+  std::stable_sort(ranked.begin() + 1, ranked.end());
+  if (ranked[1].first < 0.7 * ranked[0].first) std::swap(ranked[0], ranked[1]);
+  TrackResult best;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const TrackResult r = tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, last_beta_);
+    if (r.ok && (!best.ok || r.rmse < best.rmse)) best = r;
+    if (!best.ok && attempt == 0) best = r;
+    if (best.ok && (first_rmse_after_keyframe_ == 0.0 || best.rmse < 1.5 * first_rmse_after_keyframe_)) break;
+  }
+  *result = best;
+  if (!best.ok) return false;
+  velocity_ = best.frame_from_keyframe * last.Inverse();
+  last_frame_from_reference_ = best.frame_from_keyframe;
+  last_alpha_ = best.alpha;
+  last_beta_ = best.beta;
+  last_exposure_ = exposure;
+  return true;
+}
+
+void System::TraceCandidates(const ImagePyramid& pyramid, const SE3d& frame_from_reference, double alpha, double beta,
+                             double exposure) {
+  const Keyframe& ref = map_.keyframe(reference_);
+  // The frame's absolute brightness: I_f = e^alpha I_ref + beta with
+  //   I_ref - b_ref = e^(a_ref - a_f) tau_ref / tau_f (I_f - b_f)
+  // gives a_f = a_ref + alpha - log(tau_f / tau_ref), b_f = beta + e^alpha b_ref.
+  const double a_f = ref.affine.a + alpha - std::log(exposure / ref.exposure);
+  const double b_f = beta + std::exp(alpha) * ref.affine.b;
+  const SE3d frame_from_world = frame_from_reference * ref.cam_from_world;
+  for (int h : window_) {
+    auto it = candidates_.find(h);
+    if (it == candidates_.end()) continue;
+    const Keyframe& host = map_.keyframe(h);
+    const SE3d frame_from_host = frame_from_world * host.cam_from_world.Inverse();
+    Transfer tr;
+    tr.s = static_cast<float>(std::exp(host.affine.a - a_f) * host.exposure / exposure);
+    tr.b_host = static_cast<float>(host.affine.b);
+    tr.b_frame = static_cast<float>(b_f);
+    for (Candidate& c : it->second) {
+      if (c.removed) continue;
+      const TraceStatus s = TraceCandidate(&c, pyramid, camera_, frame_from_host, tr, options_.epipolar);
+      if (s == TraceStatus::kOutOfBounds || (s == TraceStatus::kOutlier && c.outlier_count >= 2)) c.removed = true;
+    }
+  }
+}
+
+Trajectory System::KeyframeTrajectory() const {
+  Trajectory t;
+  for (int k = 0; k < map_.NumKeyframes(); ++k) t.Add(map_.keyframe(k).t_ns, map_.keyframe(k).WorldFromCam());
+  return t;
+}
+
+Trajectory System::FrameTrajectory() const {
+  Trajectory t;
+  for (const FrameRecordInternal& f : frames_) {
+    if (f.reference < 0) continue;
+    t.Add(f.t_ns, (f.frame_from_reference * map_.keyframe(f.reference).cam_from_world).Inverse());
+  }
+  return t;
+}
+
+int System::NumMapPoints() const { return map_.NumLivePoints(); }
+
+}  // namespace dsm

@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+// The system facade: feed undistorted frames in order, get poses. Sequential and deterministic:
+// every frame is tracked and every keyframe mapped before the next frame is processed.
+//
+// Per frame: initialise (until a two-view start succeeds), then track against the newest
+// keyframe, refine the candidates of the window keyframes along their epipolar lines, and decide
+// whether the frame becomes a keyframe. A new keyframe gets observations of the window's points,
+// enters the temporal window (one keyframe leaves), candidates are activated into depleted areas,
+// the photometric bundle adjustment runs, points are culled, and the tracker's reference moves to it.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dsm/geometry/camera.h"
+#include "dsm/geometry/trajectory.h"
+#include "dsm/image/image.h"
+#include "dsm/map/map.h"
+#include "dsm/system/options.h"
+
+namespace dsm {
+
+enum class TrackingStatus { kInitializing, kOk, kLost };
+std::string TrackingStatusName(TrackingStatus status);
+
+struct FrameReport {
+  int index = -1;
+  TrackingStatus status = TrackingStatus::kInitializing;
+  std::string reason;       // For kInitializing / kLost.
+  bool keyframe = false;
+  double tracking_ms = 0.0;
+  double mapping_ms = 0.0;  // Keyframe creation and PBA, when this frame became one.
+};
+
+struct SystemStats {
+  int frames = 0, frames_tracked = 0, keyframes = 0;
+  int initialized_at_frame = -1;
+  std::vector<double> tracking_ms;  // Per tracked frame.
+  std::vector<double> mapping_ms;   // Per keyframe.
+  std::vector<double> pba_ms;       // Per keyframe.
+};
+
+class System {
+ public:
+  System(const PinholeCamera& camera, const SystemOptions& options);
+  ~System();
+
+  // `image`: undistorted (and photometrically corrected) frame of the camera's size.
+  // `exposure_ms`: 0 when unknown.
+  FrameReport Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms);
+
+  // world_from_cam of every keyframe / every tracked frame, with the latest keyframe poses.
+  Trajectory KeyframeTrajectory() const;
+  Trajectory FrameTrajectory() const;
+  const SystemStats& stats() const { return stats_; }
+  int NumMapPoints() const;
+  const Map& map() const { return map_; }
+
+ private:
+  struct FrameRecordInternal {
+    int64_t t_ns = 0;
+    int reference = -1;          // Keyframe id the pose is relative to.
+    SE3d frame_from_reference;
+  };
+  struct PendingFrame {
+    int index;
+    int64_t t_ns;
+    double exposure;
+    std::unique_ptr<ImagePyramid> pyramid;
+    Image<float> image;
+  };
+
+  FrameReport Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure);
+  void StartMap(const struct InitResult& init);
+  bool TrackFrame(const ImagePyramid& pyramid, double exposure, struct TrackResult* result);
+  void TraceCandidates(const ImagePyramid& pyramid, const SE3d& frame_from_reference, double alpha, double beta,
+                       double exposure);
+  void CreateKeyframe(int index, int64_t t_ns, std::unique_ptr<ImagePyramid> pyramid, double exposure,
+                      const SE3d& cam_from_world, const AffineBrightness& affine);
+  void MapNewKeyframe(int kf);
+  void ActivateCandidates(int newest);
+  void CullPoints();
+  void SelectCandidates(int kf);
+  void SetTrackingReference();
+  std::vector<int> ActivePointIds() const;
+
+  PinholeCamera camera_;
+  SystemOptions options_;
+  Map map_;
+  std::vector<int> window_;  // Temporal window, oldest first.
+  std::map<int, std::vector<Candidate>> candidates_;
+  std::unique_ptr<class Initializer> initializer_;
+  std::vector<PendingFrame> pending_;
+  std::unique_ptr<class FrameTracker> tracker_;
+  int reference_ = -1;  // Keyframe the tracker uses.
+  std::vector<FrameRecordInternal> frames_;
+  SE3d last_frame_from_reference_, velocity_;  // velocity: last frame motion (frame_from_previous)
+  double last_alpha_ = 0.0, last_beta_ = 0.0;  // Brightness of the last frame relative to the reference.
+  double last_exposure_ = 1.0;
+  double first_rmse_after_keyframe_ = 0.0;
+  float min_activation_distance_px_;
+  SystemStats stats_;
+};
+
+}  // namespace dsm
