@@ -137,7 +137,14 @@ class Problem {
     UpdatePairs();
     const int n = NumCameras();
     eq->Reset(n, NumPoints());
-    std::vector<std::vector<PairAccumulator>> chunk_pairs(kChunks, std::vector<PairAccumulator>(n * n));
+    // Reused across iterations: only the pairs in use are cleared.
+    if (chunk_pairs_.size() != static_cast<size_t>(kChunks) || chunk_pairs_[0].size() != static_cast<size_t>(n * n)) {
+      chunk_pairs_.assign(kChunks, std::vector<PairAccumulator>(n * n));
+    }
+    for (auto& chunk : chunk_pairs_)
+      for (int i = 0; i < n * n; ++i)
+        if (pairs_[i].used) chunk[i] = PairAccumulator{};
+    auto& chunk_pairs = chunk_pairs_;
     std::vector<double> chunk_energy(kChunks, 0.0);
     tbb::parallel_for(0, kChunks, [&](int chunk) {
       const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
@@ -365,6 +372,7 @@ class Problem {
   std::vector<PointState> points_;
   std::vector<ErrorModel> models_;
   std::vector<PairGeometry> pairs_;
+  std::vector<std::vector<PairAccumulator>> chunk_pairs_;
   int level_ = 0;
   PinholeCamera level_camera_;
 };

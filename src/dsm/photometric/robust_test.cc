@@ -48,9 +48,10 @@ TEST(ErrorModel, WeightIsDerivativeOverResidual) {
     m.sigma = 3.0;
     m.huber_k = 5.0;
     for (double r : {0.5, 2.0, 7.0, 30.0}) {
-      const double h = 1e-5;
+      // The energy is evaluated in single precision: a step well above its rounding.
+      const double h = 1e-2;
       const double derivative = (m.Energy(r + h) - m.Energy(r - h)) / (2 * h);
-      EXPECT_NEAR(m.Weight(r), derivative / r, 1e-6) << RobustKindName(kind) << " " << r;
+      EXPECT_NEAR(m.Weight(r), derivative / r, 2e-3 * m.Weight(r) + 2e-4) << RobustKindName(kind) << " " << r;
     }
   }
 }

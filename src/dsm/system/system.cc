@@ -198,7 +198,8 @@ bool System::TrackFrame(const ImagePyramid& pyramid, double exposure, TrackResul
     const TrackResult r = tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, last_beta_);
     if (r.ok && (!best.ok || r.rmse < best.rmse)) best = r;
     if (!best.ok && attempt == 0) best = r;
-    if (best.ok && (first_rmse_after_keyframe_ == 0.0 || best.rmse < 1.5 * first_rmse_after_keyframe_)) break;
+    // Other guesses only when this one failed or left a much larger residual than usual.
+    if (best.ok && (first_rmse_after_keyframe_ == 0.0 || best.rmse < 2.0 * first_rmse_after_keyframe_)) break;
   }
   *result = best;
   if (!best.ok) return false;

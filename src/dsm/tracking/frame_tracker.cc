@@ -38,6 +38,8 @@ void FrameTracker::SetReference(const ImagePyramid* keyframe, const PinholeCamer
       const float rho = points[i].idepth;
       const Eigen::Vector2f c((points[i].pixel.x() + 0.5f) * scale - 0.5f, (points[i].pixel.y() + 0.5f) * scale - 0.5f);
       for (int k = 0; k < kPatternSize; ++k) {
+        const bool centre = kPattern[k][0] == 0 && kPattern[k][1] == 0;
+        if (l >= kFirstCentreOnlyLevel && !centre) continue;
         const float x = c.x() + kPattern[k][0], y = c.y() + kPattern[k][1];
         if (!keyframe->InBounds(l, x, y, 1.f)) continue;
         const PixelGrad g = keyframe->Sample(l, x, y);
@@ -85,9 +87,14 @@ FrameTracker::Accumulated FrameTracker::Evaluate(int l, const ImagePyramid& fram
     if (!jacobians) continue;
     const double w = lp.grad_weight * model.Weight(rw);
     J << (-ea * lp.J_geo).cast<double>().transpose(), -ea * lp.ref_value, -1.0;
-    acc.H.noalias() += w * J * J.transpose();
-    acc.b.noalias() += w * J * static_cast<double>(r);
+    // Upper triangle only; mirrored after the loop.
+    for (int i = 0; i < 8; ++i) {
+      const double wji = w * J(i);
+      for (int j = i; j < 8; ++j) acc.H(i, j) += wji * J(j);
+      acc.b(i) += wji * r;
+    }
   }
+  acc.H.triangularView<Eigen::StrictlyLower>() = acc.H.transpose();
   return acc;
 }
 

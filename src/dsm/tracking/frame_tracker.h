@@ -5,6 +5,8 @@
 // Each point u of the reference (the keyframe) with inverse depth rho contributes its 8 pattern
 // pixels u_k, predicted in the frame at  u'_k = pi( T pi^-1(u_k, rho) ),  T = frame_from_keyframe:
 //   r_k = I_f(u'_k) - e^alpha I_r(u_k) - beta.
+// On the coarse levels (>= kFirstCentreOnlyLevel) only the pattern's centre pixel is used: the
+// pattern would cover several pixels of the finer levels anyway.
 // Inverse compositional Gauss–Newton/LM on the pose: the geometric Jacobian is taken on the
 // reference, J_k = -e^alpha grad I_r(u_k) J_pi(p_k) [I  -hat(p_k)], fixed per level; the update
 // is T <- T Exp(delta)^-1. (alpha, beta) are updated additively. Weights: gradient weight times
@@ -22,11 +24,20 @@
 
 namespace dsm {
 
+constexpr int kFirstCentreOnlyLevel = 2;
+
 struct TrackerOptions {
   int levels = 4;                               // Coarse to fine: levels-1 .. 0.
   std::vector<int> iterations = {10, 20, 50, 75};  // Per level, index = level.
-  RobustOptions robust;
+  RobustOptions robust = TrackerRobustDefaults();
   double min_usage = 0.1;                       // Lost below this share of usable points.
+
+  // The t-fit runs at every level of every frame: a smaller sample than the PBA's.
+  static RobustOptions TrackerRobustDefaults() {
+    RobustOptions r;
+    r.max_fit_samples = 600;
+    return r;
+  }
 
   void Validate() const;
 };
