@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Set-up, build and the main job on the built-in input: renders the synthetic `loop` scene (a
-# furnished room walked around twice) and shows what `dsm info` reads from it.
+# furnished room walked around twice), runs SLAM on it and shows the trajectory error.
 # Usage: ./scripts/demo.sh [OUT_DIR]   (default demo_out/)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,4 +10,5 @@ DSM="$BUILD_DIR/bin/dsm"
 OUT="${1:-demo_out}"
 "$DSM" synth --scene loop --out "$OUT/loop"
 "$DSM" info "$OUT/loop"
-echo "demo: the sequence is in $OUT/loop (images/, camera.yaml, times.txt, groundtruth.tum)"
+"$DSM" run "$OUT/loop" --out "$OUT/run" --quiet
+echo "demo: trajectories, stats.json and eval.json are in $OUT/run"
