@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dsm/io/dataset.h"
+#include "dsm/io/trajectory_io.h"
 #include "dsm/testing/test_data.h"
 
 namespace dsm {
@@ -86,6 +87,29 @@ TEST(Cli, SynthOutputIsADatasetThatInfoReads) {
   EXPECT_TRUE(Contains(info.output, "frames:       5"));
 }
 
+TEST(Cli, RunWritesTrajectoriesStatsAndEvaluation) {
+  const fs::path dir = ScratchDir("cli_run");
+  ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() + " --frames 60 --width 320 --height 240").code, 0);
+  const Result r = RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "out").string() + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(Contains(r.output, "frames tracked"));
+  std::ifstream stats_in(dir / "out" / "stats.json");
+  const nlohmann::json stats = nlohmann::json::parse(stats_in);
+  for (const char* key : {"frames", "frames_tracked", "keyframes", "map_points", "initialized_at_frame", "wall_s"})
+    EXPECT_TRUE(stats.contains(key)) << key;
+  for (const char* part : {"tracking", "mapping"})
+    for (const char* key : {"median", "p90", "mean"}) EXPECT_TRUE(stats["timing_ms"][part].contains(key)) << part << key;
+  EXPECT_EQ(stats["frames"], 60);
+  std::ifstream eval_in(dir / "out" / "eval.json");
+  const nlohmann::json eval = nlohmann::json::parse(eval_in);
+  EXPECT_TRUE(eval["keyframes"]["ape"].contains("rmse"));
+  EXPECT_TRUE(eval["frames"]["ape"].contains("rmse"));
+  // Trajectories: TUM rows with nanosecond timestamps.
+  const Trajectory frames = ReadTrajectory(dir / "out" / "frames.tum", TrajectoryFormat::kTum);
+  EXPECT_EQ(static_cast<int>(frames.size()), stats["frames_tracked"].get<int>());
+  EXPECT_EQ(frames.stamps_ns.front() % 1000, 0);  // the synthetic stamps are whole microseconds
+}
+
 TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
   const fs::path dir = ScratchDir("cli_bad");
   const fs::path traj = SharedDataDir() / "trajectories";
@@ -94,6 +118,8 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
   };
   WriteText(dir / "broken.tum", "0 0 0 0 0 0 0 1\n1 0 0 oops 0 0 0 1\n");
   fs::create_directories(dir / "badcam" / "images");
+  WriteText(dir / "bad_config.yaml", "pba: {speed: 11}\n");
+  WriteText(dir / "bad_value.yaml", "window: {temporal_keyframes: 1}\n");
   WriteText(dir / "badcam" / "camera.yaml", "model: pinhole\nwidth: 640\nheight: 480\nintrinsics: [400, 400, 320]\n");
   const std::vector<Case> cases = {
       {"info " + (dir / "nothing").string(), "not found"},
@@ -109,6 +135,13 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
        "pose by pose"},
       {"synth --scene moon --out " + (dir / "x").string(), "unknown scene"},
       {"synth --scene loop --out " + (dir / "x").string() + " --width 5", "--width"},
+      {"run " + (dir / "badcam").string() + " --mode dsm", "not available yet"},
+      {"run " + (dir / "badcam").string() + " --mode fast", "--mode"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " + (dir / "bad_config.yaml").string(),
+       "unknown key 'pba.speed'"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " + (dir / "bad_value.yaml").string(),
+       "window.temporal_keyframes"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 500 --out " + (dir / "o").string(), "--start"},
       {"frobnicate", ""},
       {"eval --ref", ""},
   };
