@@ -10,7 +10,7 @@ PACKAGES=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev libopencv-video-dev
   libboost-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
 )
 
 missing=()

@@ -2,6 +2,7 @@
 #include "dsm/optimization/pba.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -46,6 +47,9 @@ struct PairAccumulator {
 struct ObsState {
   int target = -1;   // Problem camera index.
   bool enabled = true;
+  // Gradient weights at the last linearisation: the energy of a trial step uses them too, so a
+  // step is judged on the function its Gauss–Newton model approximates.
+  std::array<float, kPatternSize> weight_g{};
 };
 
 struct PointState {
@@ -131,8 +135,9 @@ class Problem {
     }
   }
 
-  // Builds the normal equations at the current state; decides which observations take part in
-  // this step (> skip ratio of bad pixels: weight 0). Returns the energy.
+  // Builds the normal equations at the current state, deciding which observations take part in
+  // this step (> skip ratio of bad pixels: weight 0), and returns the energy of that set. A trial
+  // step is judged on the same set (Energy()).
   double Linearize(NormalEquations* eq) {
     UpdatePairs();
     const int n = NumCameras();
@@ -188,8 +193,12 @@ class Problem {
         for (const ObsState& o : ps.obs) {
           if (!o.enabled) continue;
           ObservationResiduals res;
-          chunk_energy[chunk] += Evaluate(ps, o, false, &res) ? PixelEnergy(res, models_[o.target], nullptr)
-                                                              : InvalidEnergy(models_[o.target]);
+          if (Evaluate(ps, o, false, &res)) {
+            res.weight_g = o.weight_g;
+            chunk_energy[chunk] += PixelEnergy(res, models_[o.target], nullptr);
+          } else {
+            chunk_energy[chunk] += InvalidEnergy(models_[o.target]);
+          }
         }
       }
     });
@@ -335,6 +344,7 @@ class Problem {
         energy += InvalidEnergy(model);
         continue;
       }
+      o.weight_g = res.weight_g;
       int bad = 0;
       const double e = PixelEnergy(res, model, &bad);
       o.enabled = bad <= options_.skip_outlier_ratio * kPatternSize;

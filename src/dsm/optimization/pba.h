@@ -21,7 +21,7 @@
 namespace dsm {
 
 struct PbaOptions {
-  int levels = 3;              // Pyramid levels, coarse to fine: levels-1 .. 0.
+  int levels = 2;              // Pyramid levels, coarse to fine: levels-1 .. 0 (N_p of the paper).
   int max_iterations = 30;     // Per level.
   double initial_lambda = 1e-4;
   RobustOptions robust;

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include "dsm/mapping/activation.h"
 #include "dsm/mapping/candidate_selector.h"
@@ -74,7 +72,6 @@ void System::MapNewKeyframe(int kf) {
   ActivateCandidates(kf);
   const PbaSummary pba = RunPba(&map_, camera_, window_, options_.pba);
   stats_.pba_ms.push_back(pba.time_ms);
-  if (std::getenv("DSM_DEBUG_PBA")) std::fprintf(stderr, "pba kf %d: %d it, %d kfs (%d fixed), %d points, %d obs, %.0f ms, removed %d\n", kf, pba.iterations, pba.keyframes, pba.fixed_keyframes, pba.points, pba.observations, pba.time_ms, pba.observations_removed);
   CullPoints();
   SelectCandidates(kf);
   SetTrackingReference();
