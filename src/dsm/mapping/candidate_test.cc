@@ -15,15 +15,11 @@ struct Frame {
 };
 
 Frame Render(const synth::SynthSequence& seq, int i) {
-  Image<float> albedo, depth;
-  synth::RenderFrame(seq.scene, seq.camera, seq.world_from_cam[i], &albedo, &depth);
   synth::FormationOptions formation;
   formation.noise_sigma = 1.0;
   formation.noise_seed = i;
-  const Image<uint8_t> img = synth::FormImage(albedo, seq.photometry[i], formation);
-  Image<float> f(img.width(), img.height());
-  for (size_t k = 0; k < img.size(); ++k) f.data()[k] = img.data()[k];
-  return {ImagePyramid(f, 4), depth};
+  synth::RenderedFrame r = synth::RenderSequenceFrame(seq, i, formation);
+  return {ImagePyramid(r.image, 4), std::move(r.depth)};
 }
 
 synth::SynthSequence Sequence(const std::string& scene) {

@@ -27,19 +27,15 @@ void BuildWorld(const std::vector<int>& frames, World* w) {
   w->seq = synth::MakeSequence(options);
   std::vector<Image<float>> depths;
   for (int f : frames) {
-    Image<float> albedo, depth;
-    synth::RenderFrame(w->seq.scene, w->seq.camera, w->seq.world_from_cam[f], &albedo, &depth);
-    const Image<uint8_t> img = synth::FormImage(albedo, w->seq.photometry[f], {});
-    Image<float> irradiance(img.width(), img.height());
-    for (size_t i = 0; i < img.size(); ++i) irradiance.data()[i] = img.data()[i];
+    synth::RenderedFrame r = synth::RenderSequenceFrame(w->seq, f, {});
     auto kf = std::make_unique<Keyframe>();
     kf->frame_index = f;
     kf->cam_from_world = w->seq.world_from_cam[f].Inverse();
-    kf->pyramid = ImagePyramid(irradiance, 4);
+    kf->pyramid = ImagePyramid(r.image, 4);
     kf->error_model = DefaultErrorModel(RobustOptions{});
     w->true_cam_from_world.push_back(kf->cam_from_world);
     w->map.AddKeyframe(std::move(kf));
-    depths.push_back(depth);
+    depths.push_back(std::move(r.depth));
   }
   for (int host = 0; host < 2; ++host) {
     const Keyframe& kf = w->map.keyframe(host);

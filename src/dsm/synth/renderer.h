@@ -34,4 +34,12 @@ struct FormationOptions {
 
 Image<uint8_t> FormImage(const Image<float>& albedo, const Photometry& photometry, const FormationOptions& options);
 
+// Frame i of a sequence through the full image formation (8-bit, as a camera gives it) returned as
+// the float image a dataset reader yields, with its depth map.
+struct RenderedFrame {
+  Image<float> image;
+  Image<float> depth;
+};
+RenderedFrame RenderSequenceFrame(const SynthSequence& sequence, size_t i, const FormationOptions& formation);
+
 }  // namespace dsm::synth

@@ -11,24 +11,19 @@
 namespace dsm {
 namespace {
 
-Image<float> RenderFloat(const synth::SynthSequence& seq, const SE3d& world_from_cam, int seed) {
-  Image<float> albedo;
-  synth::RenderFrame(seq.scene, seq.camera, world_from_cam, &albedo, nullptr);
+Image<float> RenderFloat(const synth::SynthSequence& seq, int i) {
   synth::FormationOptions formation;
   formation.noise_sigma = 1.0;
-  formation.noise_seed = seed;
-  const Image<uint8_t> img = synth::FormImage(albedo, seq.photometry[0], formation);
-  Image<float> f(img.width(), img.height());
-  for (size_t k = 0; k < img.size(); ++k) f.data()[k] = img.data()[k];
-  return f;
+  formation.noise_seed = i;
+  return synth::RenderSequenceFrame(seq, i, formation).image;
 }
 
 // Frame index at which the initializer succeeds on the scene (-1 if never within `max_frames`).
 int InitialisesAt(const synth::SynthSequence& seq, int max_frames, InitResult* out) {
   Initializer init{InitializerOptions{}};
-  init.SetReference(RenderFloat(seq, seq.world_from_cam[0], 0), seq.camera);
+  init.SetReference(RenderFloat(seq, 0), seq.camera);
   for (int i = 1; i < max_frames; ++i) {
-    *out = init.AddFrame(RenderFloat(seq, seq.world_from_cam[i], i));
+    *out = init.AddFrame(RenderFloat(seq, i));
     if (out->ok) return i;
   }
   return -1;
