@@ -48,7 +48,8 @@ TEST_P(SyntheticRun, MeetsTheAccuracyTargets) {
   EXPECT_LE((*s.eval)["keyframes"]["ape"]["rmse"].get<double>(), 0.005 * path) << "path " << path << " m";
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, SyntheticRun, ::testing::Values("loop", "shake", "forward", "rotation", "exposure"));
+INSTANTIATE_TEST_SUITE_P(Scenes, SyntheticRun, ::testing::Values("loop", "shake", "forward", "rotation", "exposure"),
+                         [](const ::testing::TestParamInfo<std::string>& param) { return param.param; });
 
 TEST(Run, TwoRunsGiveIdenticalOutput) {
   const fs::path dir = Render("shake", 80);
