@@ -98,9 +98,9 @@ ErrorModel DefaultErrorModel(const RobustOptions& options) {
 double StudentTNegLogLikelihood(const std::vector<float>& r, double nu, double sigma) {
   const double n = static_cast<double>(r.size());
   const double log_norm = std::lgamma(0.5 * (nu + 1.0)) - std::lgamma(0.5 * nu) - 0.5 * std::log(nu * M_PI) - std::log(sigma);
-  const double inv = 1.0 / (nu * sigma * sigma);
+  const float inv = static_cast<float>(1.0 / (nu * sigma * sigma));
   double sum = 0.0;
-  for (float v : r) sum += std::log1p(double(v) * v * inv);
+  for (float v : r) sum += FastLog1p(v * v * inv);
   return -n * log_norm + 0.5 * (nu + 1.0) * sum;
 }
 
