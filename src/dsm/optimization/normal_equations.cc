@@ -11,7 +11,13 @@ void NormalEquations::Reset(int cameras, int num_points) {
   num_cameras = cameras;
   H_cc.setZero(kCameraParams * cameras, kCameraParams * cameras);
   b_c.setZero(kCameraParams * cameras);
-  points.assign(num_points, PointBlock{});
+  // Keeps the coupling lists' storage across linearisations of the same problem.
+  points.resize(num_points);
+  for (PointBlock& p : points) {
+    p.H_pp = 0.0;
+    p.b_p = 0.0;
+    p.H_cp.clear();
+  }
 }
 
 void NormalEquations::AddCoupling(PointBlock* point, int camera, const CameraVector& v) {
@@ -49,10 +55,14 @@ Solution SolveSchur(const NormalEquations& eq, double lambda, const std::vector<
     const double hpp = p.H_pp * (1.0 + lambda);
     if (!(hpp > 0.0)) continue;
     inv_hpp[i] = 1.0 / hpp;
+    // Blocks of fixed cameras are dropped from S below: skip them here (most of the cameras of a
+    // window's problem are fixed, observed keyframes).
     for (const auto& [ci, vi] : p.H_cp) {
+      if (fixed[ci]) continue;
       rhs.segment<kCameraParams>(kCameraParams * ci) -= vi * (p.b_p * inv_hpp[i]);
       for (const auto& [cj, vj] : p.H_cp) {
-        S.block<kCameraParams, kCameraParams>(kCameraParams * ci, kCameraParams * cj) -= vi * vj.transpose() * inv_hpp[i];
+        if (fixed[cj]) continue;
+        S.block<kCameraParams, kCameraParams>(kCameraParams * ci, kCameraParams * cj).noalias() -= vi * vj.transpose() * inv_hpp[i];
       }
     }
   }

@@ -81,7 +81,9 @@ inline float FastLog1p(float x) {
 }  // namespace
 
 double ErrorModel::Energy(double r) const {
-  if (kind == RobustKind::kStudentT) return 0.5 * (nu + 1.0) * FastLog1p(static_cast<float>(r * r / (nu * sigma * sigma)));
+  if (kind == RobustKind::kStudentT) {
+    return 0.5 * (nu + 1.0) * FastLog1p(static_cast<float>(r * r) * static_cast<float>(1.0 / (nu * sigma * sigma)));
+  }
   const double a = std::abs(r);
   return a < huber_k ? 0.5 * r * r : huber_k * a - 0.5 * huber_k * huber_k;
 }
