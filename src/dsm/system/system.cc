@@ -101,7 +101,7 @@ FrameReport System::Initialize(int index, int64_t t_ns, const Image<float>& imag
   report.index = index;
   report.status = TrackingStatus::kInitializing;
   const auto t0 = std::chrono::steady_clock::now();
-  PendingFrame frame{index, t_ns, exposure, std::make_unique<ImagePyramid>(image, options_.pyramid_levels), image};
+  PendingFrame frame{index, t_ns, exposure, std::make_unique<ImagePyramid>(image, options_.pyramid_levels)};
   if (!initializer_->HasReference() || static_cast<int>(pending_.size()) >= options_.max_initialization_frames) {
     // (Re)start on this frame; frames waiting on an older reference stay untracked.
     for (const PendingFrame& p : pending_) frames_.push_back({p.t_ns, -1, SE3d()});

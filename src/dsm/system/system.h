@@ -70,7 +70,6 @@ class System {
     int64_t t_ns;
     double exposure;
     std::unique_ptr<ImagePyramid> pyramid;
-    Image<float> image;
   };
 
   FrameReport Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure);
