@@ -21,7 +21,6 @@ namespace dsm {
 struct Observation {
   int target = -1;          // Keyframe id.
   bool outlier = false;     // Removed after a PBA found > 30% outlier pixels.
-  float inlier_ratio = 1.f; // Share of pattern pixels under the target's inlier threshold, last PBA.
 };
 
 struct Point {

@@ -266,7 +266,6 @@ class Problem {
         int bad = kPatternSize;
         if (ps.patch_ok && Evaluate(ps, o, false, &res)) PixelEnergy(res, models_[o.target], &bad);
         Observation* obs = p.FindObservation(cams_[o.target]);
-        obs->inlier_ratio = 1.f - static_cast<float>(bad) / kPatternSize;
         if (bad > options_.drop_outlier_ratio * kPatternSize) {
           obs->outlier = true;
           ++removed;

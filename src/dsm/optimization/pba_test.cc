@@ -51,7 +51,7 @@ void BuildWorld(const std::vector<int>& frames, World* w, int stride = 6, double
         p.pixel = Eigen::Vector2f(x, y);
         p.idepth = 1.f / depths[host](x, y);
         for (int t = 0; t < w->map.NumKeyframes(); ++t)
-          if (t != host) p.observations.push_back({t, false, 1.f});
+          if (t != host) p.observations.push_back({t, false});
         w->map.AddPoint(p);
       }
     }

@@ -61,7 +61,7 @@ void System::MapNewKeyframe(int kf) {
     Point& p = map_.point(pid);
     Eigen::Vector2f px;
     float rho;
-    if (ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho)) p.observations.push_back({kf, false, 1.f});
+    if (ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho)) p.observations.push_back({kf, false});
   }
   window_.push_back(kf);
   const int drop = SelectKeyframeToDrop(map_, window_, options_.window);
@@ -114,7 +114,7 @@ void System::ActivateCandidates(int newest) {
       if (!RefineCandidate(map_, camera_, h, c, targets, options_.activation, &refined)) continue;
       probe.idepth = refined.idepth;
       probe.created_at_keyframe = map_.NumKeyframes();
-      for (int t : refined.targets) probe.observations.push_back({t, false, 1.f});
+      for (int t : refined.targets) probe.observations.push_back({t, false});
       map_.AddPoint(probe);
       if (ProjectPoint(map_, camera_, probe, newest, 0.f, &px, &rho)) distance.Add(px);
     }
