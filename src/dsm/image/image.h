@@ -48,6 +48,13 @@ class Image {
   std::vector<T> pixels_;
 };
 
+// An 8-bit image as float grey values.
+inline Image<float> ToFloat(const Image<uint8_t>& image) {
+  Image<float> out(image.width(), image.height());
+  for (size_t i = 0; i < image.size(); ++i) out.data()[i] = image.data()[i];
+  return out;
+}
+
 // Bilinear interpolation at (x, y); the caller guarantees InBounds(x, y).
 //   I(x, y) = (1-fx)(1-fy) I00 + fx (1-fy) I10 + (1-fx) fy I01 + fx fy I11
 template <typename T>

@@ -51,13 +51,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   System system(undistorter.output(), options.system);
   for (int i = options.start; i < end; ++i) {
     const Image<uint8_t> raw = dataset.LoadImage(i);
-    Image<float> irradiance;
-    if (dataset.photometric) {
-      irradiance = dataset.photometric->ToIrradiance(raw);
-    } else {
-      irradiance = Image<float>(raw.width(), raw.height());
-      for (size_t k = 0; k < raw.size(); ++k) irradiance.data()[k] = raw.data()[k];
-    }
+    const Image<float> irradiance = dataset.photometric ? dataset.photometric->ToIrradiance(raw) : ToFloat(raw);
     const FrameReport r = system.Process(i, dataset.frames[i].t_ns, undistorter.Apply(irradiance),
                                          dataset.frames[i].exposure_ms);
     if (!options.quiet && (r.keyframe || r.status == TrackingStatus::kLost)) {

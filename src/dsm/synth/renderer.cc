@@ -129,9 +129,7 @@ RenderedFrame RenderSequenceFrame(const SynthSequence& sequence, size_t i, const
   RenderedFrame out;
   Image<float> albedo;
   RenderFrame(sequence.scene, sequence.camera, sequence.world_from_cam[i], &albedo, &out.depth);
-  const Image<uint8_t> img = FormImage(albedo, sequence.photometry[i], formation);
-  out.image = Image<float>(img.width(), img.height());
-  for (size_t k = 0; k < img.size(); ++k) out.image.data()[k] = img.data()[k];
+  out.image = ToFloat(FormImage(albedo, sequence.photometry[i], formation));
   return out;
 }
 

@@ -74,10 +74,7 @@ TEST(Initializer, StartsWithinTwentyFramesOnTheSharedEuroc) {
   const Dataset d = OpenDataset(testing::SharedDataDir() / "euroc_mh01_shake");
   const Undistorter und(d.camera, {d.undistort_mode, 16});
   const auto load = [&](size_t i) {
-    const Image<uint8_t> raw = d.LoadImage(i);
-    Image<float> f(raw.width(), raw.height());
-    for (size_t k = 0; k < raw.size(); ++k) f.data()[k] = raw.data()[k];
-    return und.Apply(f);
+    return und.Apply(ToFloat(d.LoadImage(i)));
   };
   Initializer init{InitializerOptions{}};
   init.SetReference(load(0), und.output());
