@@ -21,6 +21,13 @@ double MsSince(std::chrono::steady_clock::time_point t0) {
 // T^s on the geodesic from the identity.
 SE3d Scale(const SE3d& T, double s) { return SE3d::Exp(s * T.Log()); }
 
+// The absolute brightness of a frame tracked against `ref` with I_f = e^alpha I_ref + beta: from
+//   I_ref - b_ref = e^(a_ref - a_f) tau_ref / tau_f (I_f - b_f)
+// follow a_f = a_ref + alpha - log(tau_f / tau_ref) and b_f = beta + e^alpha b_ref.
+AffineBrightness FrameBrightness(const Keyframe& ref, double alpha, double beta, double exposure) {
+  return {ref.affine.a + alpha - std::log(exposure / ref.exposure), beta + std::exp(alpha) * ref.affine.b};
+}
+
 }  // namespace
 
 std::string TrackingStatusName(TrackingStatus status) {
@@ -82,11 +89,8 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, 
   if (!ShouldCreateKeyframe(scores, options_.keyframe)) return report;
 
   const auto t1 = std::chrono::steady_clock::now();
-  // Absolute brightness of the frame from the tracked relative one (see TraceCandidates).
-  AffineBrightness affine;
-  affine.a = ref.affine.a + result.alpha - std::log(exposure / ref.exposure);
-  affine.b = result.beta + std::exp(result.alpha) * ref.affine.b;
-  CreateKeyframe(index, t_ns, std::move(pyramid), exposure, result.frame_from_keyframe * ref.cam_from_world, affine);
+  CreateKeyframe(index, t_ns, std::move(pyramid), exposure, result.frame_from_keyframe * ref.cam_from_world,
+                 FrameBrightness(ref, result.alpha, result.beta, exposure));
   const int kf = map_.NumKeyframes() - 1;
   frames_.back() = {t_ns, kf, SE3d()};
   MapNewKeyframe(kf);
@@ -214,11 +218,7 @@ bool System::TrackFrame(const ImagePyramid& pyramid, double exposure, TrackResul
 void System::TraceCandidates(const ImagePyramid& pyramid, const SE3d& frame_from_reference, double alpha, double beta,
                              double exposure) {
   const Keyframe& ref = map_.keyframe(reference_);
-  // The frame's absolute brightness: I_f = e^alpha I_ref + beta with
-  //   I_ref - b_ref = e^(a_ref - a_f) tau_ref / tau_f (I_f - b_f)
-  // gives a_f = a_ref + alpha - log(tau_f / tau_ref), b_f = beta + e^alpha b_ref.
-  const double a_f = ref.affine.a + alpha - std::log(exposure / ref.exposure);
-  const double b_f = beta + std::exp(alpha) * ref.affine.b;
+  const AffineBrightness frame = FrameBrightness(ref, alpha, beta, exposure);
   const SE3d frame_from_world = frame_from_reference * ref.cam_from_world;
   for (int h : window_) {
     auto it = candidates_.find(h);
@@ -226,9 +226,9 @@ void System::TraceCandidates(const ImagePyramid& pyramid, const SE3d& frame_from
     const Keyframe& host = map_.keyframe(h);
     const SE3d frame_from_host = frame_from_world * host.cam_from_world.Inverse();
     Transfer tr;
-    tr.s = static_cast<float>(std::exp(host.affine.a - a_f) * host.exposure / exposure);
+    tr.s = static_cast<float>(BrightnessRatio(host.affine, frame, host.exposure, exposure));
     tr.b_host = static_cast<float>(host.affine.b);
-    tr.b_frame = static_cast<float>(b_f);
+    tr.b_frame = static_cast<float>(frame.b);
     for (Candidate& c : it->second) {
       if (c.removed) continue;
       const TraceStatus s = TraceCandidate(&c, pyramid, camera_, frame_from_host, tr, options_.epipolar);
