@@ -10,18 +10,24 @@ namespace dsm::cli {
 
 Command AddRun(CLI::App& app) {
   struct Args {
-    std::string dataset, out = "dsm_out", mode = "sw", config;
-    int start = 0, end = -1;
-    bool quiet = false;
+    std::string dataset, out = "dsm_out", mode = "dsm", config, robust;
+    int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1;
+    bool quiet = false, global_ba = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("DATASET", a->dataset, "Dataset folder")->required();
   app.add_option("--out", a->out, "Output folder (default ./dsm_out)");
-  app.add_option("--mode", a->mode, "sw (temporal window, DSM-SW) | dsm (persistent map, not available yet)");
+  app.add_option("--mode", a->mode, "dsm (persistent map: temporal + covisible window, default) | sw (temporal only)");
   app.add_option("--config", a->config, "YAML file with options (see README)");
   app.add_option("--start", a->start, "First frame index");
   app.add_option("--end", a->end, "One past the last frame index");
   app.add_flag("--quiet", a->quiet, "Print only the summary");
+  app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
+  // Ablation switches (paper VII-A); they override the config file.
+  app.add_option("--nt", a->nt, "Temporal keyframes N_t (window.temporal_keyframes)");
+  app.add_option("--nc", a->nc, "Covisible keyframes N_c (window.covisible_keyframes; 0 is DSM-SW)");
+  app.add_option("--pba-levels", a->pba_levels, "Pyramid levels of the bundle adjustment (pba.levels)");
+  app.add_option("--robust", a->robust, "t | huber | huber-mad (robust.function)");
   return [a] {
     RunOptions options;
     if (a->mode == "sw") {
@@ -32,7 +38,13 @@ Command AddRun(CLI::App& app) {
       throw InputError("--mode: expected sw or dsm, got '" + a->mode + "'");
     }
     if (!a->config.empty()) ApplyOptionsYaml(a->config, &options.system);
+    SystemOptions& o = options.system;
+    if (a->nt >= 0) o.window.temporal_keyframes = a->nt;
+    if (a->nc >= 0) o.window.covisible_keyframes = a->nc;
+    if (a->pba_levels >= 0) o.pba.levels = a->pba_levels;
+    if (!a->robust.empty()) o.pba.robust.kind = o.tracker.robust.kind = ParseRobustKind(a->robust, "--robust");
     options.system.Validate();
+    options.global_ba = a->global_ba;
     options.start = a->start;
     options.end = a->end;
     options.quiet = a->quiet;

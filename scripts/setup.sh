@@ -11,6 +11,7 @@ PACKAGES=(
   libboost-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
+  jq
 )
 
 missing=()

@@ -90,13 +90,21 @@ TEST(Cli, SynthOutputIsADatasetThatInfoReads) {
 TEST(Cli, RunWritesTrajectoriesStatsAndEvaluation) {
   const fs::path dir = ScratchDir("cli_run");
   ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() + " --frames 60 --width 320 --height 240").code, 0);
-  const Result r = RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "out").string() + " --quiet");
+  const Result r = RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "out").string() + " --quiet --global-ba");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(Contains(r.output, "frames tracked"));
   std::ifstream stats_in(dir / "out" / "stats.json");
   const nlohmann::json stats = nlohmann::json::parse(stats_in);
-  for (const char* key : {"frames", "frames_tracked", "keyframes", "map_points", "initialized_at_frame", "wall_s"})
+  for (const char* key : {"frames", "frames_tracked", "keyframes", "map_points", "initialized_at_frame", "wall_s",
+                          "points_created", "reobservations", "covisible_keyframes_selected",
+                          "points_created_per_keyframe", "per_keyframe"})
     EXPECT_TRUE(stats.contains(key)) << key;
+  EXPECT_EQ(stats["mode"], "dsm");  // The default.
+  EXPECT_EQ(stats["points_created_per_keyframe"].size(), stats["keyframes"].get<size_t>());
+  int created = 0;
+  for (const auto& n : stats["points_created_per_keyframe"]) created += n.get<int>();
+  EXPECT_EQ(created, stats["points_created"].get<int>());
+  EXPECT_GE(stats["points_created"].get<int>(), stats["map_points"].get<int>());
   for (const char* part : {"tracking", "mapping"})
     for (const char* key : {"median", "p90", "mean"}) EXPECT_TRUE(stats["timing_ms"][part].contains(key)) << part << key;
   EXPECT_EQ(stats["frames"], 60);
@@ -104,6 +112,8 @@ TEST(Cli, RunWritesTrajectoriesStatsAndEvaluation) {
   const nlohmann::json eval = nlohmann::json::parse(eval_in);
   EXPECT_TRUE(eval["keyframes"]["ape"].contains("rmse"));
   EXPECT_TRUE(eval["frames"]["ape"].contains("rmse"));
+  EXPECT_TRUE(eval["keyframes_before_global_ba"]["ape"].contains("rmse"));
+  EXPECT_GT(stats["timing_ms"]["global_ba"].get<double>(), 0.0);
   // Trajectories: TUM rows with nanosecond timestamps.
   const Trajectory frames = ReadTrajectory(dir / "out" / "frames.tum", TrajectoryFormat::kTum);
   EXPECT_EQ(static_cast<int>(frames.size()), stats["frames_tracked"].get<int>());
@@ -135,7 +145,8 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
        "pose by pose"},
       {"synth --scene moon --out " + (dir / "x").string(), "unknown scene"},
       {"synth --scene loop --out " + (dir / "x").string() + " --width 5", "--width"},
-      {"run " + (dir / "badcam").string() + " --mode dsm", "not available yet"},
+      {"run " + (dir / "badcam").string() + " --robust cauchy", "--robust"},
+      {"run " + (dir / "badcam").string() + " --nc 99", "window.covisible_keyframes"},
       {"run " + (dir / "badcam").string() + " --mode fast", "--mode"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " + (dir / "bad_config.yaml").string(),
        "unknown key 'pba.speed'"},

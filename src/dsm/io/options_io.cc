@@ -51,9 +51,17 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["window.temporal_keyframes"] = Set(&o->window.temporal_keyframes);
   s["window.min_visible_ratio"] = Set(&o->window.min_visible_ratio);
   s["window.max_affine_change"] = Set(&o->window.max_affine_change);
+  s["window.covisible_keyframes"] = Set(&o->window.covisible_keyframes);
+  s["window.depleted_distance_px"] = Set(&o->window.depleted_distance_px);
+  s["window.max_view_angle_deg"] = Set(&o->window.max_view_angle_deg);
+  s["window.min_covisible_ratio"] = Set(&o->window.min_covisible_ratio);
+  s["window.max_scale_change"] = Set(&o->window.max_scale_change);
+  s["window.optimize_covisible_poses"] = Set(&o->window.optimize_covisible_poses);
   s["pba.levels"] = Set(&o->pba.levels);
   s["pba.max_iterations"] = Set(&o->pba.max_iterations);
   s["pba.initial_lambda"] = Set(&o->pba.initial_lambda);
+  s["pba.min_camera_observations"] = Set(&o->pba.min_camera_observations);
+  s["pba.max_outside_observations"] = Set(&o->pba.max_outside_observations);
   s["pba.drop_outlier_ratio"] = Set(&o->pba.drop_outlier_ratio);
   s["pba.skip_outlier_ratio"] = Set(&o->pba.skip_outlier_ratio);
   // The robust function applies to the bundle adjustment and the tracker alike.

@@ -18,6 +18,13 @@ struct WindowOptions {
   int temporal_keyframes = 4;  // N_t, including the newest.
   double min_visible_ratio = 0.05;
   double max_affine_change = 0.7;
+  // Covisible part (covisibility.h); N_c = 0 is DSM-SW.
+  int covisible_keyframes = 5;         // N_c (3 in the paper: see the README's ablation).
+  bool optimize_covisible_poses = false;  // Paper: true. Held, their points are still optimised.
+  float depleted_distance_px = 2.f;    // A pixel this far from every projected point is depleted.
+  double max_view_angle_deg = 60.0;
+  double min_covisible_ratio = 0.05;   // Of a keyframe's points that must land in depleted areas.
+  float max_scale_change = 1.3f;        // Old points seen at a similar scale count as mapped places.
 
   void Validate() const;
 };

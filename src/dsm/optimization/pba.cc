@@ -17,6 +17,8 @@ void PbaOptions::Validate() const {
   if (levels < 1 || levels > 5) throw InputError("pba.levels must be within 1..5");
   if (max_iterations < 1) throw InputError("pba.max_iterations must be positive");
   if (!(initial_lambda > 0)) throw InputError("pba.initial_lambda must be positive");
+  if (max_outside_observations < 0) throw InputError("pba.max_outside_observations must be non-negative");
+  if (min_camera_observations < 0) throw InputError("pba.min_camera_observations must be non-negative");
   if (!(drop_outlier_ratio > 0 && drop_outlier_ratio <= skip_outlier_ratio && skip_outlier_ratio <= 1))
     throw InputError("pba outlier ratios must satisfy 0 < drop <= skip <= 1");
   robust.Validate();
@@ -62,16 +64,21 @@ struct PointState {
 
 class Problem {
  public:
-  Problem(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options)
+  Problem(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const std::vector<int>& held,
+          const PbaOptions& options)
       : map_(map), camera_(camera), options_(options) {
     std::vector<int> index(map->NumKeyframes(), -1);
     for (int id : active) {
       if (index[id] >= 0) continue;
       index[id] = static_cast<int>(cams_.size());
       cams_.push_back(id);
-      fixed_.push_back(id == 0);
+      fixed_.push_back(id == 0 || std::find(held.begin(), held.end(), id) != held.end());
     }
     const size_t num_active = cams_.size();
+    std::vector<bool> is_active(map->NumKeyframes(), false), is_held(num_active, false);
+    for (int id : active) is_active[id] = true;
+    for (size_t c = 0; c < num_active; ++c)
+      is_held[c] = std::find(held.begin(), held.end(), cams_[c]) != held.end();
     for (size_t c = 0; c < num_active; ++c) {
       for (int pid : map->keyframe(cams_[c]).points) {
         const Point& p = map->point(pid);
@@ -79,8 +86,16 @@ class Problem {
         PointState ps;
         ps.id = pid;
         ps.host = static_cast<int>(c);
+        // A point of a held keyframe: its observations in keyframes outside the window join two
+        // fixed poses and constrain only its depth; the newest few suffice.
+        int skip = 0;
+        if (is_held[ps.host]) {
+          for (const Observation& o : p.observations) skip += !o.outlier && !is_active[o.target];
+          skip -= options.max_outside_observations;  // The oldest ones are left out.
+        }
         for (const Observation& o : p.observations) {
           if (o.outlier) continue;
+          if (!is_active[o.target] && skip-- > 0) continue;
           if (index[o.target] < 0) {  // Observed but not active: in the problem, fixed.
             index[o.target] = static_cast<int>(cams_.size());
             cams_.push_back(o.target);
@@ -91,6 +106,15 @@ class Problem {
         if (!ps.obs.empty()) points_.push_back(std::move(ps));
       }
     }
+    // A camera tied to the rest by few observations is nearly free (its motion barely changes
+    // the energy): it stays fixed in this solve instead of taking a wild step.
+    std::vector<int> links(cams_.size(), 0);
+    for (const PointState& ps : points_) {
+      links[ps.host] += static_cast<int>(ps.obs.size());
+      for (const ObsState& o : ps.obs) ++links[o.target];
+    }
+    for (size_t c = 0; c < cams_.size(); ++c)
+      if (links[c] < options.min_camera_observations) fixed_[c] = true;
     models_.resize(cams_.size());
     for (size_t c = 0; c < cams_.size(); ++c) models_[c] = map->keyframe(cams_[c]).error_model;
   }
@@ -388,11 +412,12 @@ class Problem {
 
 }  // namespace
 
-PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options) {
+PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options,
+                  const std::vector<int>& held) {
   const auto t0 = std::chrono::steady_clock::now();
   options.Validate();
   PbaSummary summary;
-  Problem problem(map, camera, active, options);
+  Problem problem(map, camera, active, held, options);
   summary.keyframes = problem.NumCameras();
   summary.fixed_keyframes = problem.NumFixed();
   summary.points = problem.NumPoints();

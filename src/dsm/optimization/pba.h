@@ -6,8 +6,10 @@
 //   E = sum_points sum_obs sum_k rho_t( sqrt(w_g) r_k )        (rho_t: the target keyframe's model)
 //
 // Gauge: keyframe 0 (the oldest of the map) never moves; keyframes observed by active points but
-// not active themselves are in the problem and fixed. The error model of every keyframe is
-// refitted at the start of each level and after the last one (stored in the keyframe).
+// not active themselves are in the problem and fixed; so is an active keyframe in fewer than
+// `min_camera_observations` observations (hosted or observed), which the data barely constrain.
+// The error model of every keyframe is refitted at the start of each level and after the last one
+// (stored in the keyframe).
 // Linearisation accumulates Hessian blocks per host–target keyframe pair in parallel chunks that
 // are summed in a fixed order, so results do not depend on the thread schedule.
 #pragma once
@@ -24,6 +26,8 @@ struct PbaOptions {
   int levels = 2;              // Pyramid levels, coarse to fine: levels-1 .. 0 (N_p of the paper).
   int max_iterations = 12;     // Per level (6 costs accuracy on the synthetic corridor, 30 buys nothing).
   double initial_lambda = 1e-4;
+  int min_camera_observations = 50;
+  int max_outside_observations = 3;  // Per point of a held keyframe: the newest ones outside the window.  // An active keyframe in fewer observations stays fixed.
   RobustOptions robust;
   double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
   double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
@@ -42,7 +46,9 @@ struct PbaSummary {
   double time_ms = 0.0;
 };
 
-// Optimises the keyframes `active` (ids) and their points. Returns what it did.
-PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options);
+// Optimises the keyframes `active` (ids) and their points; the poses of those also in `held` stay
+// fixed (their points are optimised). Returns what it did.
+PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options,
+                  const std::vector<int>& held = {});
 
 }  // namespace dsm

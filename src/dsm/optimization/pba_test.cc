@@ -105,6 +105,64 @@ TEST(Pba, RecoversPerturbedPosesAndDepths) {
               s.observations);
 }
 
+TEST(Pba, HeldKeyframesKeepTheirPosesWhileTheirPointsMove) {
+  World w;
+  BuildWorld({0, 6, 12, 18}, &w);
+  Perturb(&w);
+  const SE3d held_pose = w.map.keyframe(1).cam_from_world;
+  std::vector<float> depths_before;
+  for (int pid : w.map.keyframe(1).points) depths_before.push_back(w.map.point(pid).idepth);
+  const PbaSummary s = RunPba(&w.map, w.seq.camera, {0, 1, 2, 3}, PbaOptions{}, {1});
+  EXPECT_EQ(s.fixed_keyframes, 2);
+  EXPECT_EQ(w.map.keyframe(1).cam_from_world.Matrix(), held_pose.Matrix());
+  int moved = 0;
+  for (size_t i = 0; i < depths_before.size(); ++i)
+    moved += w.map.point(w.map.keyframe(1).points[i]).idepth != depths_before[i];
+  EXPECT_GT(moved, 0.9 * depths_before.size());
+  EXPECT_LT(s.final_energy, s.initial_energy);
+}
+
+TEST(Pba, KeepsTheNewestObservationsOutsideTheWindow) {
+  World w;
+  BuildWorld({0, 6, 12, 18}, &w);
+  // Active {0, 1}, both held: every point has one observation in the other active keyframe and
+  // two outside (keyframes 2 and 3); a cap of one keeps the newer (3), so keyframe 2 is not in the
+  // problem. Points of keyframes that are optimised keep all their observations.
+  PbaOptions options;
+  options.max_iterations = 1;
+  options.max_outside_observations = 1;
+  const PbaSummary capped = RunPba(&w.map, w.seq.camera, {0, 1}, options, {0, 1});
+  EXPECT_EQ(capped.observations, 2 * capped.points);
+  EXPECT_EQ(capped.keyframes, 3);
+  World fresh;  // The first run marked outlier observations.
+  BuildWorld({0, 6, 12, 18}, &fresh);
+  options.max_outside_observations = 2;
+  const PbaSummary all = RunPba(&fresh.map, fresh.seq.camera, {0, 1}, options, {0, 1});
+  World free;
+  BuildWorld({0, 6, 12, 18}, &free);
+  options.max_outside_observations = 1;
+  EXPECT_EQ(RunPba(&free.map, free.seq.camera, {0, 1}, options).observations, 3 * all.points);
+  EXPECT_EQ(all.observations, 3 * all.points);
+  EXPECT_EQ(all.keyframes, 4);
+}
+
+TEST(Pba, AKeyframeInFewObservationsStaysFixed) {
+  World w;
+  BuildWorld({0, 6, 12, 18}, &w);
+  // Keyframe 3 keeps only a handful of observations: the data barely constrain it.
+  int kept = 0;
+  for (int i = 0; i < w.map.NumPoints(); ++i) {
+    auto& obs = w.map.point(i).observations;
+    for (Observation& o : obs)
+      if (o.target == 3 && kept++ >= 10) o.outlier = true;
+  }
+  Perturb(&w);
+  const SE3d before = w.map.keyframe(3).cam_from_world;
+  const PbaSummary s = RunPba(&w.map, w.seq.camera, {0, 1, 2, 3}, PbaOptions{});
+  EXPECT_EQ(s.fixed_keyframes, 2);
+  EXPECT_EQ(w.map.keyframe(3).cam_from_world.Matrix(), before.Matrix());
+}
+
 // One pattern pixel of an observation for Ceres: parameters are increments on the starting state
 // (pose: left increment of cam_from_world, then a and b); numeric derivatives through the same
 // residual function. The gradient weight is held at its value at the PBA's solution (the PBA

@@ -21,11 +21,13 @@ struct RunOptions {
   int start = 0;   // First frame index.
   int end = -1;    // One past the last frame (-1: to the end).
   bool quiet = false;
+  bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
 };
 
 struct RunSummary {
   nlohmann::json stats;
-  std::optional<nlohmann::json> eval;  // {"keyframes": ..., "frames": ...}
+  // {"keyframes": ..., "frames": ...}; with the global BA also "keyframes_before_global_ba".
+  std::optional<nlohmann::json> eval;
   std::string line;                    // One-line summary.
 };
 

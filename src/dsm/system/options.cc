@@ -6,9 +6,6 @@
 namespace dsm {
 
 void SystemOptions::Validate() const {
-  if (mode == MapMode::kFull) {
-    throw InputError("--mode dsm (covisible keyframes, the persistent map) is not available yet: use --mode sw");
-  }
   if (pyramid_levels < 1 || pyramid_levels > 6) throw InputError("pyramid_levels must be within 1..6");
   if (max_initialization_frames < 5) throw InputError("max_initialization_frames must be at least 5");
   if (tracker.levels > pyramid_levels) throw InputError("tracker.levels cannot exceed pyramid_levels");

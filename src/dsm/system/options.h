@@ -17,11 +17,11 @@ namespace dsm {
 
 enum class MapMode {
   kSlidingWindow,  // DSM-SW: temporal window only.
-  kFull,           // DSM: temporal + covisible keyframes (not available yet).
+  kFull,           // DSM: temporal + covisible keyframes (window.covisible_keyframes).
 };
 
 struct SystemOptions {
-  MapMode mode = MapMode::kSlidingWindow;
+  MapMode mode = MapMode::kFull;
   int pyramid_levels = 5;          // Image pyramid (the undistorted size divides by 2^(levels-1)).
   int max_initialization_frames = 40;  // Frames on one initialiser reference before it restarts.
   InitializerOptions initializer;

@@ -137,6 +137,7 @@ void System::StartMap(const InitResult& init) {
   CreateKeyframe(last.index, last.t_ns, std::move(last.pyramid), last.exposure, init.current_from_reference,
                  AffineBrightness{});
   // Points triangulated by the initialiser, hosted by keyframe 0.
+  stats_.per_keyframe.push_back({first.index, 0, 0, {}});
   for (const InitPoint& ip : init.points) {
     Point p;
     p.host = 0;
@@ -146,6 +147,8 @@ void System::StartMap(const InitResult& init) {
     HostPatch patch;
     if (!SampleHostPatch(map_.keyframe(0).pyramid, 0, p.pixel, &patch)) continue;
     map_.AddPoint(p);
+    ++stats_.points_created;
+    ++stats_.per_keyframe.back().points_created;
   }
   SelectCandidates(0);
   // Candidates of keyframe 0 traced in keyframe 1 with the initial pose.

@@ -3,10 +3,12 @@
 // every frame is tracked and every keyframe mapped before the next frame is processed.
 //
 // Per frame: initialise (until a two-view start succeeds), then track against the newest
-// keyframe, refine the candidates of the window keyframes along their epipolar lines, and decide
+// keyframe, refine the candidates of the temporal keyframes along their epipolar lines, and decide
 // whether the frame becomes a keyframe. A new keyframe gets observations of the window's points,
-// enters the temporal window (one keyframe leaves), candidates are activated into depleted areas,
-// the photometric bundle adjustment runs, points are culled, and the tracker's reference moves to it.
+// enters the temporal window (one keyframe leaves), old keyframes covisible with it join the
+// window (DSM mode) and their points get observations in it (re-observations), candidates are
+// activated into the areas still depleted, the photometric bundle adjustment runs over the whole
+// window, points are culled, and the tracker's reference moves to the new keyframe.
 #pragma once
 
 #include <map>
@@ -41,6 +43,17 @@ struct SystemStats {
   std::vector<double> tracking_ms;  // Per tracked frame.
   std::vector<double> mapping_ms;   // Per keyframe.
   std::vector<double> pba_ms;       // Per keyframe.
+  int points_created = 0;           // Initial points and activated candidates.
+  int reobservations = 0;           // Observations created for points hosted outside the temporal window.
+  int covisible_keyframes_selected = 0;  // Summed over keyframes.
+  struct KeyframeLog {
+    int frame = -1;             // Input frame index of the keyframe.
+    int points_created = 0;     // Points activated when it was mapped.
+    int reobservations = 0;
+    std::vector<int> covisible; // Keyframe ids of the covisible part of its window.
+  };
+  std::vector<KeyframeLog> per_keyframe;
+  double global_ba_ms = -1.0;       // -1: not run.
 };
 
 class System {
@@ -58,6 +71,9 @@ class System {
   const SystemStats& stats() const { return stats_; }
   int NumMapPoints() const;
   const Map& map() const { return map_; }
+
+  // Bundle adjustment of every keyframe and point of the map (keyframe 0 fixed), once, at the end.
+  void RunGlobalBundleAdjustment();
 
  private:
   struct FrameRecordInternal {
@@ -84,12 +100,16 @@ class System {
   void CullPoints();
   void SelectCandidates(int kf);
   void SetTrackingReference();
+  void SelectCovisible(int newest);
+  std::vector<int> ActiveKeyframes() const;  // Temporal then covisible.
   std::vector<int> ActivePointIds() const;
 
   PinholeCamera camera_;
   SystemOptions options_;
   Map map_;
-  std::vector<int> window_;  // Temporal window, oldest first.
+  std::vector<int> window_;     // Temporal window, oldest first.
+  std::vector<int> covisible_; // Covisible part of the window (DSM mode).
+  std::vector<Eigen::Vector2f> old_pixels_;  // Newest-keyframe pixels of old, unselected map points.
   std::map<int, std::vector<Candidate>> candidates_;
   std::unique_ptr<class Initializer> initializer_;
   std::vector<PendingFrame> pending_;

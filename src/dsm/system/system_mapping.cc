@@ -6,32 +6,14 @@
 
 #include "dsm/mapping/activation.h"
 #include "dsm/mapping/candidate_selector.h"
+#include "dsm/mapping/covisibility.h"
+#include "dsm/mapping/projection.h"
 #include "dsm/mapping/window.h"
 #include "dsm/optimization/pba.h"
 #include "dsm/system/system.h"
 #include "dsm/tracking/frame_tracker.h"
 
 namespace dsm {
-
-namespace {
-
-// Projection of point p into keyframe `target`: pixel and inverse depth; false if behind or outside.
-bool ProjectPoint(const Map& map, const PinholeCamera& camera, const Point& p, int target, float border,
-                  Eigen::Vector2f* pixel, float* idepth) {
-  const Keyframe& host = map.keyframe(p.host);
-  const Keyframe& kf = map.keyframe(target);
-  const Eigen::Vector3d p_host = camera.Unproject(p.pixel.x(), p.pixel.y()) / p.idepth;
-  const Eigen::Vector3d p_target = kf.cam_from_world * (host.cam_from_world.Inverse() * p_host);
-  if (p_target.z() <= 1e-6) return false;
-  const Eigen::Vector2d u = camera.Project(p_target);
-  if (u.x() < border || u.y() < border || u.x() > camera.width - 1 - border || u.y() > camera.height - 1 - border)
-    return false;
-  *pixel = u.cast<float>();
-  *idepth = static_cast<float>(1.0 / p_target.z());
-  return true;
-}
-
-}  // namespace
 
 void System::CreateKeyframe(int index, int64_t t_ns, std::unique_ptr<ImagePyramid> pyramid, double exposure,
                             const SE3d& cam_from_world, const AffineBrightness& affine) {
@@ -47,34 +29,85 @@ void System::CreateKeyframe(int index, int64_t t_ns, std::unique_ptr<ImagePyrami
   ++stats_.keyframes;
 }
 
+std::vector<int> System::ActiveKeyframes() const {
+  std::vector<int> active = window_;
+  active.insert(active.end(), covisible_.begin(), covisible_.end());
+  return active;
+}
+
 std::vector<int> System::ActivePointIds() const {
   std::vector<int> ids;
-  for (int kf : window_)
+  for (int kf : ActiveKeyframes())
     for (int pid : map_.keyframe(kf).points)
       if (!map_.point(pid).removed) ids.push_back(pid);
   return ids;
 }
 
 void System::MapNewKeyframe(int kf) {
-  // Observations of the window's points in the new keyframe (the PBA verifies them).
-  for (int pid : ActivePointIds()) {
-    Point& p = map_.point(pid);
-    Eigen::Vector2f px;
-    float rho;
-    if (ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho)) p.observations.push_back({kf, false});
-  }
+  stats_.per_keyframe.push_back({map_.keyframe(kf).frame_index, 0, 0, {}});
+  // Observations of the temporal window's points in the new keyframe (the PBA verifies them).
+  for (int h : window_)
+    for (int pid : map_.keyframe(h).points) {
+      Point& p = map_.point(pid);
+      Eigen::Vector2f px;
+      float rho;
+      if (!p.removed && ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho)) p.observations.push_back({kf, false});
+    }
   window_.push_back(kf);
   const int drop = SelectKeyframeToDrop(map_, window_, options_.window);
   if (drop >= 0) {
     window_.erase(std::find(window_.begin(), window_.end(), drop));
     candidates_.erase(drop);
   }
+  SelectCovisible(kf);
   ActivateCandidates(kf);
-  const PbaSummary pba = RunPba(&map_, camera_, window_, options_.pba);
+  // Covisible keyframes bring their points; their poses stay where the older map put them unless
+  // asked otherwise (moving them cost accuracy on every synthetic scene).
+  const std::vector<int> held = options_.window.optimize_covisible_poses ? std::vector<int>{} : covisible_;
+  const PbaSummary pba = RunPba(&map_, camera_, ActiveKeyframes(), options_.pba, held);
   stats_.pba_ms.push_back(pba.time_ms);
   CullPoints();
   SelectCandidates(kf);
   SetTrackingReference();
+}
+
+void System::SelectCovisible(int newest) {
+  covisible_.clear();
+  if (options_.mode != MapMode::kFull) return;
+  DistanceMap distance(camera_.width, camera_.height);
+  for (int pid : ActivePointIds()) {
+    Eigen::Vector2f px;
+    float rho;
+    if (ProjectPoint(map_, camera_, map_.point(pid), newest, 0.f, &px, &rho)) distance.Add(px);
+  }
+  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  CovisibleSelection selection = SelectCovisibleKeyframes(map_, camera_, window_, options_.window, &distance);
+  old_pixels_ = std::move(selection.other_old_pixels);
+  for (const CovisibleChoice& c : selection.chosen) {
+    covisible_.push_back(c.keyframe);
+    log.covisible.push_back(c.keyframe);
+    // Re-observations: the covisible keyframe's points seen by the new keyframe from a similar angle.
+    for (int pid : map_.keyframe(c.keyframe).points) {
+      Point& p = map_.point(pid);
+      Eigen::Vector2f px;
+      float rho;
+      if (p.removed || p.FindObservation(newest) != nullptr || !ProjectPoint(map_, camera_, p, newest, 4.f, &px, &rho) ||
+          ViewAngleDeg(map_, camera_, p, newest) > options_.window.max_view_angle_deg)
+        continue;
+      p.observations.push_back({newest, false});
+      ++log.reobservations;
+    }
+  }
+  stats_.covisible_keyframes_selected += static_cast<int>(covisible_.size());
+  stats_.reobservations += log.reobservations;
+}
+
+void System::RunGlobalBundleAdjustment() {
+  if (map_.NumKeyframes() < 2) return;
+  std::vector<int> all(map_.NumKeyframes());
+  for (int k = 0; k < map_.NumKeyframes(); ++k) all[k] = k;
+  const PbaSummary pba = RunPba(&map_, camera_, all, options_.pba);
+  stats_.global_ba_ms = pba.time_ms;
 }
 
 void System::ActivateCandidates(int newest) {
@@ -85,10 +118,16 @@ void System::ActivateCandidates(int newest) {
     float rho;
     if (ProjectPoint(map_, camera_, map_.point(pid), newest, 0.f, &px, &rho)) distance.Add(px);
   }
-  // Keep the window near its target number of points by adapting the spacing.
+  // Places the older map already covers (points of old keyframes outside the window, seen at a
+  // similar scale and angle) get no new points: the map is re-used, not duplicated.
+  for (const Eigen::Vector2f& px : old_pixels_) distance.Add(px);
+  // Keep the window near its target number of points by adapting the spacing; it only shrinks
+  // when the view is not already covered by the older map.
   const int target = options_.activation.target_points;
-  if (static_cast<int>(active.size()) < 0.8 * target) min_activation_distance_px_ = std::max(2.f, min_activation_distance_px_ - 1.f);
-  if (static_cast<int>(active.size()) > 1.2 * target) min_activation_distance_px_ += 1.f;
+  const int num_active = static_cast<int>(active.size());
+  const int covered = num_active + static_cast<int>(old_pixels_.size());
+  if (covered < 0.8 * target) min_activation_distance_px_ = std::max(2.f, min_activation_distance_px_ - 1.f);
+  if (num_active > 1.2 * target) min_activation_distance_px_ += 1.f;
 
   for (int h : window_) {
     if (h == newest) continue;
@@ -116,6 +155,8 @@ void System::ActivateCandidates(int newest) {
       probe.created_at_keyframe = map_.NumKeyframes();
       for (int t : refined.targets) probe.observations.push_back({t, false});
       map_.AddPoint(probe);
+      ++stats_.points_created;
+      ++stats_.per_keyframe.back().points_created;
       if (ProjectPoint(map_, camera_, probe, newest, 0.f, &px, &rho)) distance.Add(px);
     }
   }
