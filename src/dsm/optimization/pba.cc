@@ -36,6 +36,7 @@ constexpr int kChunks = 64;  // Fixed work split: the sums do not depend on the 
 //   xi_rel = xi_t - Adj(T_th) xi_h     (T_th = T_tw T_hw^-1)
 struct PairGeometry {
   bool used = false;
+  int slot = -1;  // Accumulator index; -1 when both keyframes are fixed (nothing to accumulate).
   Eigen::Matrix3f R;
   Eigen::Vector3f t;
   Map10x8 A_host, A_target;  // d(relative) / d(absolute)
@@ -167,12 +168,9 @@ class Problem {
     const int n = NumCameras();
     eq->Reset(n, NumPoints());
     // Reused across iterations: only the pairs in use are cleared.
-    if (chunk_pairs_.size() != static_cast<size_t>(kChunks) || chunk_pairs_[0].size() != static_cast<size_t>(n * n)) {
-      chunk_pairs_.assign(kChunks, std::vector<PairAccumulator>(n * n));
-    }
-    for (auto& chunk : chunk_pairs_)
-      for (int i = 0; i < n * n; ++i)
-        if (pairs_[i].used) chunk[i] = PairAccumulator{};
+    // One accumulator per pair with a free keyframe, per chunk (sparse: most pairs are unused).
+    chunk_pairs_.resize(kChunks);
+    for (auto& chunk : chunk_pairs_) chunk.assign(num_slots_, PairAccumulator{});
     auto& chunk_pairs = chunk_pairs_;
     std::vector<double> chunk_energy(kChunks, 0.0);
     tbb::parallel_for(0, kChunks, [&](int chunk) {
@@ -186,11 +184,11 @@ class Problem {
     for (int h = 0; h < n; ++h) {
       for (int t = 0; t < n; ++t) {
         const PairGeometry& g = pairs_[h * n + t];
-        if (!g.used) continue;
+        if (g.slot < 0) continue;
         PairAccumulator sum;
         for (int chunk = 0; chunk < kChunks; ++chunk) {
-          sum.H += chunk_pairs[chunk][h * n + t].H;
-          sum.b += chunk_pairs[chunk][h * n + t].b;
+          sum.H += chunk_pairs[chunk][g.slot].H;
+          sum.b += chunk_pairs[chunk][g.slot].b;
         }
         const int ih = kCameraParams * h, it = kCameraParams * t;
         eq->H_cc.block<8, 8>(ih, ih) += g.A_host.transpose() * sum.H * g.A_host;
@@ -305,6 +303,12 @@ class Problem {
     pairs_.assign(n * n, PairGeometry{});
     for (const PointState& ps : points_)
       for (const ObsState& o : ps.obs) pairs_[ps.host * n + o.target].used = true;
+    num_slots_ = 0;
+    for (int h = 0; h < n; ++h)
+      for (int t = 0; t < n; ++t) {
+        PairGeometry& g = pairs_[h * n + t];
+        if (g.used && !(fixed_[h] && fixed_[t])) g.slot = num_slots_++;
+      }
     for (int h = 0; h < n; ++h) {
       for (int t = 0; t < n; ++t) {
         PairGeometry& g = pairs_[h * n + t];
@@ -384,13 +388,15 @@ class Problem {
         r(k) = rk;
       }
       const Eigen::Matrix<double, 10, kPatternSize> JxtW = Jx.transpose() * w.asDiagonal();
-      PairAccumulator& acc = (*pairs)[ps.host * n + o.target];
-      acc.H.noalias() += JxtW * Jx;
-      acc.b.noalias() += JxtW * r;
+      const PairGeometry& g = pairs_[ps.host * n + o.target];
+      if (g.slot >= 0) {
+        PairAccumulator& acc = (*pairs)[g.slot];
+        acc.H.noalias() += JxtW * Jx;
+        acc.b.noalias() += JxtW * r;
+      }
       const Vector10 h_xp = JxtW * Jr;
       block->H_pp += Jr.dot(w.asDiagonal() * Jr);
       block->b_p += Jr.dot(w.asDiagonal() * r);
-      const PairGeometry& g = pairs_[ps.host * n + o.target];
       NormalEquations::AddCoupling(block, ps.host, g.A_host.transpose() * h_xp);
       NormalEquations::AddCoupling(block, o.target, g.A_target.transpose() * h_xp);
     }
@@ -406,6 +412,7 @@ class Problem {
   std::vector<ErrorModel> models_;
   std::vector<PairGeometry> pairs_;
   std::vector<std::vector<PairAccumulator>> chunk_pairs_;
+  int num_slots_ = 0;
   int level_ = 0;
   PinholeCamera level_camera_;
 };
