@@ -69,17 +69,16 @@ class Problem {
           const PbaOptions& options)
       : map_(map), camera_(camera), options_(options) {
     std::vector<int> index(map->NumKeyframes(), -1);
+    std::vector<bool> is_active(map->NumKeyframes(), false), is_held(map->NumKeyframes(), false);
+    for (int id : held) is_held[id] = true;
     for (int id : active) {
+      is_active[id] = true;
       if (index[id] >= 0) continue;
       index[id] = static_cast<int>(cams_.size());
       cams_.push_back(id);
-      fixed_.push_back(id == 0 || std::find(held.begin(), held.end(), id) != held.end());
+      fixed_.push_back(id == 0 || is_held[id]);
     }
     const size_t num_active = cams_.size();
-    std::vector<bool> is_active(map->NumKeyframes(), false), is_held(num_active, false);
-    for (int id : active) is_active[id] = true;
-    for (size_t c = 0; c < num_active; ++c)
-      is_held[c] = std::find(held.begin(), held.end(), cams_[c]) != held.end();
     for (size_t c = 0; c < num_active; ++c) {
       for (int pid : map->keyframe(cams_[c]).points) {
         const Point& p = map->point(pid);
@@ -90,7 +89,7 @@ class Problem {
         // A point of a held keyframe: its observations in keyframes outside the window join two
         // fixed poses and constrain only its depth; the newest few suffice.
         int skip = 0;
-        if (is_held[ps.host]) {
+        if (is_held[cams_[c]]) {
           for (const Observation& o : p.observations) skip += !o.outlier && !is_active[o.target];
           skip -= options.max_outside_observations;  // The oldest ones are left out.
         }
@@ -167,7 +166,6 @@ class Problem {
     UpdatePairs();
     const int n = NumCameras();
     eq->Reset(n, NumPoints());
-    // Reused across iterations: only the pairs in use are cleared.
     // One accumulator per pair with a free keyframe, per chunk (sparse: most pairs are unused).
     chunk_pairs_.resize(kChunks);
     for (auto& chunk : chunk_pairs_) chunk.assign(num_slots_, PairAccumulator{});

@@ -15,6 +15,21 @@
 
 namespace dsm {
 
+namespace {
+
+// The level-0 distance map of keyframe `target` with the projections of the points `ids`.
+DistanceMap ProjectedDistanceMap(const Map& map, const PinholeCamera& camera, const std::vector<int>& ids, int target) {
+  DistanceMap distance(camera.width, camera.height);
+  for (int pid : ids) {
+    Eigen::Vector2f px;
+    float rho;
+    if (ProjectPoint(map, camera, map.point(pid), target, 0.f, &px, &rho)) distance.Add(px);
+  }
+  return distance;
+}
+
+}  // namespace
+
 void System::CreateKeyframe(int index, int64_t t_ns, std::unique_ptr<ImagePyramid> pyramid, double exposure,
                             const SE3d& cam_from_world, const AffineBrightness& affine) {
   auto kf = std::make_unique<Keyframe>();
@@ -74,12 +89,7 @@ void System::MapNewKeyframe(int kf) {
 void System::SelectCovisible(int newest) {
   covisible_.clear();
   if (options_.mode != MapMode::kFull) return;
-  DistanceMap distance(camera_.width, camera_.height);
-  for (int pid : ActivePointIds()) {
-    Eigen::Vector2f px;
-    float rho;
-    if (ProjectPoint(map_, camera_, map_.point(pid), newest, 0.f, &px, &rho)) distance.Add(px);
-  }
+  DistanceMap distance = ProjectedDistanceMap(map_, camera_, ActivePointIds(), newest);
   SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
   CovisibleSelection selection = SelectCovisibleKeyframes(map_, camera_, window_, options_.window, &distance);
   old_pixels_ = std::move(selection.other_old_pixels);
@@ -112,12 +122,7 @@ void System::RunGlobalBundleAdjustment() {
 
 void System::ActivateCandidates(int newest) {
   const std::vector<int> active = ActivePointIds();
-  DistanceMap distance(camera_.width, camera_.height);
-  for (int pid : active) {
-    Eigen::Vector2f px;
-    float rho;
-    if (ProjectPoint(map_, camera_, map_.point(pid), newest, 0.f, &px, &rho)) distance.Add(px);
-  }
+  DistanceMap distance = ProjectedDistanceMap(map_, camera_, active, newest);
   // Places the older map already covers (points of old keyframes outside the window, seen at a
   // similar scale and angle) get no new points: the map is re-used, not duplicated.
   for (const Eigen::Vector2f& px : old_pixels_) distance.Add(px);
