@@ -13,6 +13,7 @@ Command AddRun(CLI::App& app) {
     std::string dataset, out = "dsm_out", mode = "dsm", config, robust;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1;
     bool quiet = false, global_ba = false;
+    GtArgs gt;
   };
   auto a = std::make_shared<Args>();
   app.add_option("DATASET", a->dataset, "Dataset folder")->required();
@@ -28,6 +29,7 @@ Command AddRun(CLI::App& app) {
   app.add_option("--nc", a->nc, "Covisible keyframes N_c (window.covisible_keyframes; 0 is DSM-SW)");
   app.add_option("--pba-levels", a->pba_levels, "Pyramid levels of the bundle adjustment (pba.levels)");
   app.add_option("--robust", a->robust, "t | huber | huber-mad (robust.function)");
+  AddGtOptions(app, &a->gt);
   return [a] {
     RunOptions options;
     if (a->mode == "sw") {
@@ -48,7 +50,7 @@ Command AddRun(CLI::App& app) {
     options.start = a->start;
     options.end = a->end;
     options.quiet = a->quiet;
-    const Dataset dataset = OpenDataset(a->dataset);
+    const Dataset dataset = OpenDataset(a->dataset, a->gt.Parse());
     const RunSummary summary = RunDataset(dataset, options, a->out);
     std::printf("%s\n", summary.line.c_str());
     return 0;

@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "dsm/io/dataset.h"
+
 namespace dsm::cli {
 
 using Command = std::function<int()>;
@@ -15,5 +17,13 @@ Command AddInfo(CLI::App& app);
 Command AddEval(CLI::App& app);
 Command AddSynth(CLI::App& app);
 Command AddRun(CLI::App& app);
+Command AddGtCheck(CLI::App& app);
+
+// --gt-frame / --gt-quaternion: how EuRoC ground-truth rows are read (see io/dataset.h).
+struct GtArgs {
+  std::string frame = "body", quaternion = "hamilton";
+  GroundTruthConvention Parse() const;  // Throws InputError naming the option.
+};
+void AddGtOptions(CLI::App& app, GtArgs* args);
 
 }  // namespace dsm::cli

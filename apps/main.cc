@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   add("run", "Run SLAM on a dataset; writes trajectories, statistics and evaluation", dsm::cli::AddRun);
   add("info", "Describe a dataset: format, frames, camera, ground truth", dsm::cli::AddInfo);
   add("eval", "Compare an estimated trajectory with a reference (APE, RPE)", dsm::cli::AddEval);
+  add("gt-check", "Check a dataset's ground truth against its images (epipolar distance of tracked corners)",
+      dsm::cli::AddGtCheck);
   add("synth", "Render a synthetic sequence with exact ground truth", dsm::cli::AddSynth);
   try {
     app.parse(argc, argv);

@@ -52,6 +52,28 @@ TEST(Cli, InfoDescribesTheSharedEurocData) {
   EXPECT_TRUE(Contains(r.output, "photometric:  no"));
 }
 
+// The shared EuRoC ground truth, read as its README says (body poses x T_BS), contradicts the
+// images by tens of pixels; read as camera poses with JPL quaternions it fits them to ~0.3 px.
+TEST(Cli, GtCheckFindsTheReadingTheImagesAgreeWith) {
+  const fs::path dir = ScratchDir("cli_gt_check");
+  const Result r = RunDsm("gt-check " + (SharedDataDir() / "euroc_mh01_shake").string() + " --pairs 30 --json " +
+                          (dir / "gt.json").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(Contains(r.output, "images agree best with: camera-jpl")) << r.output;
+  std::ifstream in(dir / "gt.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  ASSERT_EQ(j["readings"].size(), 4u);
+  EXPECT_EQ(j["best"], "camera-jpl");
+  for (const auto& row : j["readings"]) {
+    if (row["ground_truth"] == "camera-jpl") EXPECT_LT(row["median_px"].get<double>(), 0.5);
+    if (row["ground_truth"] == "body-hamilton") EXPECT_GT(row["median_px"].get<double>(), 10.0);
+  }
+  const Result info = RunDsm("info " + (SharedDataDir() / "euroc_mh01_shake").string() +
+                             " --gt-frame camera --gt-quaternion jpl");
+  ASSERT_EQ(info.code, 0) << info.output;
+  EXPECT_TRUE(Contains(info.output, "ground truth: yes (380 camera poses"));
+}
+
 TEST(Cli, EvalWritesTheJsonContract) {
   const fs::path dir = ScratchDir("cli_eval");
   const fs::path traj = SharedDataDir() / "trajectories";
@@ -153,6 +175,9 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " + (dir / "bad_value.yaml").string(),
        "window.temporal_keyframes"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 500 --out " + (dir / "o").string(), "--start"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gt-frame imu", "--gt-frame"},
+      {"info " + (dir / "badcam").string() + " --gt-quaternion jpl", "EuRoC datasets only"},
+      {"gt-check " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gap 0", "gap"},
       {"frobnicate", ""},
       {"eval --ref", ""},
   };

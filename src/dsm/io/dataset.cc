@@ -62,10 +62,38 @@ void ValidateFrames(const std::vector<FrameRecord>& frames, const std::string& s
   }
 }
 
-Dataset OpenDataset(const fs::path& path) {
+std::string GroundTruthConvention::Name() const {
+  return std::string(frame == GtFrame::kBody ? "body" : "camera") +
+         (quaternion == GtQuaternion::kHamilton ? "-hamilton" : "-jpl");
+}
+
+std::vector<GroundTruthConvention> AllGroundTruthConventions() {
+  return {{GtFrame::kBody, GtQuaternion::kHamilton},
+          {GtFrame::kBody, GtQuaternion::kJpl},
+          {GtFrame::kCamera, GtQuaternion::kHamilton},
+          {GtFrame::kCamera, GtQuaternion::kJpl}};
+}
+
+GtFrame ParseGtFrame(const std::string& name, const std::string& where) {
+  if (name == "body") return GtFrame::kBody;
+  if (name == "camera") return GtFrame::kCamera;
+  throw InputError(where + ": expected body or camera, got '" + name + "'");
+}
+
+GtQuaternion ParseGtQuaternion(const std::string& name, const std::string& where) {
+  if (name == "hamilton") return GtQuaternion::kHamilton;
+  if (name == "jpl") return GtQuaternion::kJpl;
+  throw InputError(where + ": expected hamilton or jpl, got '" + name + "'");
+}
+
+Dataset OpenDataset(const fs::path& path, const GroundTruthConvention& gt) {
   if (!fs::exists(path)) throw InputError(path.string() + ": dataset not found");
-  if (fs::is_directory(path / "mav0" / "cam0")) return ReadEuroc(path / "mav0");
-  if (fs::is_directory(path / "cam0") && fs::exists(path / "cam0" / "data.csv")) return ReadEuroc(path);
+  if (fs::is_directory(path / "mav0" / "cam0")) return ReadEuroc(path / "mav0", gt);
+  if (fs::is_directory(path / "cam0") && fs::exists(path / "cam0" / "data.csv")) return ReadEuroc(path, gt);
+  if (!gt.IsDefault()) {
+    throw InputError(path.string() + ": the ground-truth reading '" + gt.Name() +
+                     "' applies to EuRoC datasets only (this one stores camera poses)");
+  }
   if (fs::exists(path / "camera.txt") && fs::exists(path / "times.txt")) return ReadTumMono(path);
   if (fs::exists(path / "rgb.txt")) return ReadTumRgbd(path);
   if (fs::exists(path / "calib.txt") && fs::is_directory(path / "image_0")) return ReadKitti(path);

@@ -2,7 +2,7 @@
 // A dataset: frames in time order, the camera calibration and, when present, ground truth
 // (world_from_cam camera poses) and photometric calibration. Formats, detected from the layout:
 //   euroc     mav0/cam0/data.csv, sensor.yaml, state_groundtruth_estimate0/data.csv (body poses,
-//             converted to camera poses with T_BS)
+//             converted to camera poses with T_BS; see GroundTruthConvention)
 //   tum-mono  times.txt (id, seconds, exposure ms), camera.txt, images/ or images.zip,
 //             pcalib.txt, vignette.png
 //   tum-rgbd  rgb.txt, groundtruth.txt, camera.yaml (or the published Freiburg 1/2/3 intrinsics)
@@ -50,15 +50,36 @@ struct Dataset {
   Image<uint8_t> LoadImage(size_t i) const;
 };
 
+// How the rows of a EuRoC ground-truth file are read. The ASL layout documents body (IMU) poses with
+// Hamilton quaternions q = (w, x, y, z) of world_from_body:
+//   kBody     world_from_cam = row * T_BS
+//   kCamera   world_from_cam = row                (an export of camera poses)
+//   kJpl      the quaternion is in the JPL sense, i.e. the conjugate: the row's rotation is R(q)^T
+// `dsm gt-check` tells from the images which reading a dataset needs (eval/ground_truth_check.h).
+enum class GtFrame { kBody, kCamera };
+enum class GtQuaternion { kHamilton, kJpl };
+struct GroundTruthConvention {
+  GtFrame frame = GtFrame::kBody;
+  GtQuaternion quaternion = GtQuaternion::kHamilton;
+  bool IsDefault() const { return frame == GtFrame::kBody && quaternion == GtQuaternion::kHamilton; }
+  std::string Name() const;  // "body-hamilton", "camera-jpl", ...
+};
+// Every reading, default first.
+std::vector<GroundTruthConvention> AllGroundTruthConventions();
+// Parses "body" | "camera" and "hamilton" | "jpl"; throws InputError naming `where`.
+GtFrame ParseGtFrame(const std::string& name, const std::string& where);
+GtQuaternion ParseGtQuaternion(const std::string& name, const std::string& where);
+
 // Opens the dataset at `path`, detecting its format. Throws InputError with a message naming the
-// path and what is missing or malformed.
-Dataset OpenDataset(const std::filesystem::path& path);
+// path and what is missing or malformed. A non-default `gt` is only accepted for EuRoC datasets
+// (the other formats store camera poses with Hamilton quaternions).
+Dataset OpenDataset(const std::filesystem::path& path, const GroundTruthConvention& gt = {});
 
 // Human-readable summary (what `dsm info` prints).
 std::string DescribeDataset(const Dataset& dataset);
 
 // Readers of the single formats (used by OpenDataset).
-Dataset ReadEuroc(const std::filesystem::path& mav0);
+Dataset ReadEuroc(const std::filesystem::path& mav0, const GroundTruthConvention& gt = {});
 Dataset ReadTumMono(const std::filesystem::path& root);
 Dataset ReadTumRgbd(const std::filesystem::path& root);
 Dataset ReadKitti(const std::filesystem::path& root);

@@ -56,6 +56,29 @@ TEST(EurocDataset, SharedSequence) {
   EXPECT_EQ(img.height(), 480);
 }
 
+TEST(EurocDataset, GroundTruthConventions) {
+  const fs::path path = SharedDataDir() / "euroc_mh01_shake";
+  // First ground-truth row of the shared file.
+  const Eigen::Quaterniond q(0.4658695444, 0.6949291473, 0.4557504203, -0.303859510766);
+  const Eigen::Vector3d p(4.6786366552, -1.8246669943, 0.7559865394);
+  const Dataset camera = OpenDataset(path, {GtFrame::kCamera, GtQuaternion::kHamilton});
+  EXPECT_LT((camera.ground_truth.poses[0].Rotation() - q.toRotationMatrix()).norm(), 1e-9);
+  EXPECT_LT((camera.ground_truth.poses[0].Translation() - p).norm(), 1e-12);
+  const Dataset jpl = OpenDataset(path, {GtFrame::kCamera, GtQuaternion::kJpl});
+  EXPECT_LT((jpl.ground_truth.poses[0].Rotation() - q.toRotationMatrix().transpose()).norm(), 1e-9);
+  EXPECT_LT((jpl.ground_truth.poses[0].Translation() - p).norm(), 1e-12);
+  const Dataset body_jpl = OpenDataset(path, {GtFrame::kBody, GtQuaternion::kJpl});
+  const SE3d world_from_body(Eigen::Quaterniond(q.conjugate()), p);
+  const Eigen::Matrix4d body_from_cam = (world_from_body.Inverse() * body_jpl.ground_truth.poses[0]).Matrix();
+  EXPECT_NEAR(body_from_cam(0, 3), -0.0216401454975, 1e-9);
+  EXPECT_NEAR(body_from_cam(1, 0), 0.999557249008, 1e-9);
+
+  EXPECT_EQ((GroundTruthConvention{GtFrame::kCamera, GtQuaternion::kJpl}.Name()), "camera-jpl");
+  EXPECT_EQ(AllGroundTruthConventions().front().Name(), "body-hamilton");
+  EXPECT_THROW(ParseGtFrame("imu", "--gt-frame"), InputError);
+  EXPECT_THROW(ParseGtQuaternion("xyzw", "--gt-quaternion"), InputError);
+}
+
 TEST(FolderDataset, ReadsWhatItWrites) {
   const fs::path root = ScratchDir("folder_dataset");
   fs::create_directories(root / "images");
@@ -78,6 +101,8 @@ TEST(FolderDataset, ReadsWhatItWrites) {
   EXPECT_EQ(d.ground_truth.size(), 2u);
   EXPECT_EQ(d.LoadImage(1)(10, 3), Pattern(65, 49)(10, 3));
   EXPECT_NE(DescribeDataset(d).find("frames:       3"), std::string::npos);
+  // Camera-pose formats take no EuRoC ground-truth reading.
+  EXPECT_THROW(OpenDataset(root, {GtFrame::kCamera, GtQuaternion::kJpl}), InputError);
   // An odd image size still yields a pyramid-friendly undistorted size (64 x 48).
   EXPECT_NE(DescribeDataset(d).find("pinhole 64x48"), std::string::npos);
 

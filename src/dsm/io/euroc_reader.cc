@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // EuRoC ASL layout. Ground truth is the body (IMU) frame; camera poses are
-//   world_from_cam = world_from_body * body_from_cam,   body_from_cam = T_BS of sensor.yaml.
+//   world_from_cam = world_from_body * body_from_cam,   body_from_cam = T_BS of sensor.yaml,
+// unless the GroundTruthConvention says the rows are camera poses and/or JPL quaternions.
 #include "dsm/io/calibration_io.h"
 #include "dsm/io/dataset.h"
 #include "dsm/io/trajectory_io.h"
@@ -11,7 +12,7 @@ namespace dsm {
 
 namespace fs = std::filesystem;
 
-Dataset ReadEuroc(const fs::path& mav0) {
+Dataset ReadEuroc(const fs::path& mav0, const GroundTruthConvention& convention) {
   Dataset d;
   d.format = "euroc";
   d.root = mav0.filename() == "mav0" ? mav0.parent_path() : mav0;
@@ -29,9 +30,12 @@ Dataset ReadEuroc(const fs::path& mav0) {
 
   const fs::path gt = mav0 / "state_groundtruth_estimate0" / "data.csv";
   if (fs::exists(gt)) {
-    Trajectory body = ReadTrajectory(gt, TrajectoryFormat::kEuroc);
-    for (size_t i = 0; i < body.size(); ++i) {
-      d.ground_truth.Add(body.stamps_ns[i], body.poses[i] * sensor.body_from_cam);
+    const Trajectory rows = ReadTrajectory(gt, TrajectoryFormat::kEuroc);
+    for (size_t i = 0; i < rows.size(); ++i) {
+      SE3d row = rows.poses[i];
+      // JPL: the stored quaternion is the conjugate of the Hamilton one of the same rotation.
+      if (convention.quaternion == GtQuaternion::kJpl) row = SE3d(row.So3().Inverse(), row.Translation());
+      d.ground_truth.Add(rows.stamps_ns[i], convention.frame == GtFrame::kBody ? row * sensor.body_from_cam : row);
     }
   }
   return d;
