@@ -6,6 +6,7 @@
 // level l has f_l = f / 2^l and c_l = (c + 0.5) / 2^l - 0.5 (pixel centres at integers).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -45,6 +46,19 @@ class ImagePyramid {
     return (1.f - fy) * ((1.f - fx) * p[0][0] + fx * p[1][0]) + fy * ((1.f - fx) * p[w][0] + fx * p[w + 1][0]);
   }
   bool InBounds(int l, float x, float y, float border) const { return levels_[l].InBounds(x, y, border); }
+
+  // Asks the cache for the pixels within `radius` (+1 for bilinear) of (x, y) at level l, ahead of
+  // sampling them: residuals over many keyframes read images far larger than the caches, and the
+  // loads, not the arithmetic, dominate. Does nothing outside the image.
+  void Prefetch(int l, int x, int y, int radius) const {
+    const Image<PixelGrad>& img = levels_[l];
+    if (x - radius < 0 || y - radius < 0 || x + radius + 1 >= img.width() || y + radius + 1 >= img.height()) return;
+    for (int r = y - radius; r <= y + radius + 1; ++r) {
+      const auto first = reinterpret_cast<uintptr_t>(img.Row(r) + x - radius) & ~uintptr_t{63};
+      const auto last = reinterpret_cast<uintptr_t>(img.Row(r) + x + radius + 2) - 1;
+      for (uintptr_t line = first; line <= last; line += 64) __builtin_prefetch(reinterpret_cast<const void*>(line));
+    }
+  }
 
  private:
   std::vector<Image<PixelGrad>> levels_;

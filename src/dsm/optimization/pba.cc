@@ -53,6 +53,7 @@ struct ObsState {
   // Gradient weights at the last linearisation: the energy of a trial step uses them too, so a
   // step is judged on the function its Gauss–Newton model approximates.
   std::array<float, kPatternSize> weight_g{};
+  int x = -1, y = -1;  // Where it last projected at this level (for prefetching); -1: not yet.
 };
 
 struct PointState {
@@ -138,25 +139,40 @@ class Problem {
       const Point& p = map_->point(ps.id);
       const Eigen::Vector2f px((p.pixel.x() + 0.5f) * scale - 0.5f, (p.pixel.y() + 0.5f) * scale - 0.5f);
       ps.patch_ok = SampleHostPatch(map_->keyframe(cams_[ps.host]).pyramid, level, px, &ps.patch);
+      for (ObsState& o : ps.obs) o.x = o.y = -1;
     });
   }
 
-  // Fits each camera's error model to the current residuals of the observations in it.
+  // Fits each camera's error model to the current residuals of the observations in it. Residuals
+  // are gathered in parallel chunks and concatenated in point order; the fits run in parallel per
+  // camera: the result is that of the sequential loop.
   void FitModels() {
-    std::vector<std::vector<float>> residuals(cams_.size());
     UpdatePairs();
-    for (const PointState& ps : points_) {
-      if (!ps.patch_ok) continue;
-      for (const ObsState& o : ps.obs) {
-        ObservationResiduals res;
-        if (!Evaluate(ps, o, false, &res)) continue;
-        for (int k = 0; k < kPatternSize; ++k) residuals[o.target].push_back(std::sqrt(res.weight_g[k]) * res.r[k]);
+    const size_t n = cams_.size();
+    std::vector<std::vector<std::vector<float>>> chunk_residuals(kChunks, std::vector<std::vector<float>>(n));
+    tbb::parallel_for(0, kChunks, [&](int chunk) {
+      const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
+      for (size_t i = begin; i < end; ++i) {
+        PointState& ps = points_[i];
+        if (i + 1 < end) Prefetch(i + 1);
+        if (!ps.patch_ok) continue;
+        for (ObsState& o : ps.obs) {
+          ObservationResiduals res;
+          if (!Evaluate(ps, o, false, &res)) continue;
+          Remember(res, &o);
+          std::vector<float>& out = chunk_residuals[chunk][o.target];
+          for (int k = 0; k < kPatternSize; ++k) out.push_back(std::sqrt(res.weight_g[k]) * res.r[k]);
+        }
       }
-    }
-    for (size_t c = 0; c < cams_.size(); ++c) {
-      models_[c] = FitErrorModel(residuals[c], options_.robust);
-      map_->keyframe(cams_[c]).error_model = models_[c];
-    }
+    });
+    tbb::parallel_for(size_t{0}, n, [&](size_t c) {
+      std::vector<float> residuals;
+      for (int chunk = 0; chunk < kChunks; ++chunk) {
+        residuals.insert(residuals.end(), chunk_residuals[chunk][c].begin(), chunk_residuals[chunk][c].end());
+      }
+      models_[c] = FitErrorModel(residuals, options_.robust);
+    });
+    for (size_t c = 0; c < n; ++c) map_->keyframe(cams_[c]).error_model = models_[c];
   }
 
   // Builds the normal equations at the current state, deciding which observations take part in
@@ -174,6 +190,7 @@ class Problem {
     tbb::parallel_for(0, kChunks, [&](int chunk) {
       const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
       for (size_t i = begin; i < end; ++i) {
+        if (i + 1 < end) Prefetch(i + 1);
         chunk_energy[chunk] += LinearizePoint(i, &chunk_pairs[chunk], &eq->points[i]);
       }
     });
@@ -209,6 +226,7 @@ class Problem {
       const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
       for (size_t i = begin; i < end; ++i) {
         const PointState& ps = points_[i];
+        if (i + 1 < end) Prefetch(i + 1);
         if (!ps.patch_ok) continue;
         for (const ObsState& o : ps.obs) {
           if (!o.enabled) continue;
@@ -296,6 +314,19 @@ class Problem {
   }
 
  private:
+  // The target pixels of point i's observations, where they last projected (they move little
+  // between iterations); sampling them is memory-bound otherwise.
+  void Prefetch(size_t i) const {
+    if (i >= points_.size()) return;
+    for (const ObsState& o : points_[i].obs) {
+      if (o.x >= 0) map_->keyframe(cams_[o.target]).pyramid.Prefetch(level_, o.x, o.y, 2);
+    }
+  }
+  static void Remember(const ObservationResiduals& res, ObsState* o) {
+    o->x = static_cast<int>(res.center_target.x());
+    o->y = static_cast<int>(res.center_target.y());
+  }
+
   void UpdatePairs() {
     const int n = NumCameras();
     pairs_.assign(n * n, PairGeometry{});
@@ -370,6 +401,7 @@ class Problem {
         continue;
       }
       o.weight_g = res.weight_g;
+      Remember(res, &o);
       int bad = 0;
       const double e = PixelEnergy(res, model, &bad);
       o.enabled = bad <= options_.skip_outlier_ratio * kPatternSize;
