@@ -60,34 +60,6 @@ double ErrorModel::Weight(double r) const {
   return a < huber_k ? 1.0 : huber_k / a;
 }
 
-namespace {
-
-// log(1 + x) for x >= 0 to ~1e-6 relative: log(m 2^e) = e ln 2 + log(m), m in [1, 2), with
-// log(m) = 2 atanh(z), z = (m - 1)/(m + 1) in [0, 1/3), by its odd series to z^9. Energies only
-// rank LM steps, and this is the hottest call of the system.
-inline float FastLog1p(float x) {
-  const float y = 1.f + x;
-  uint32_t bits;
-  std::memcpy(&bits, &y, sizeof(bits));
-  const int e = static_cast<int>((bits >> 23) & 0xFF) - 127;
-  bits = (bits & 0x7FFFFFu) | 0x3F800000u;
-  float m;
-  std::memcpy(&m, &bits, sizeof(m));
-  const float z = (m - 1.f) / (m + 1.f), z2 = z * z;
-  const float series = z * (2.f + z2 * (2.f / 3.f + z2 * (2.f / 5.f + z2 * (2.f / 7.f + z2 * (2.f / 9.f)))));
-  return static_cast<float>(e) * 0.69314718f + series;
-}
-
-}  // namespace
-
-double ErrorModel::Energy(double r) const {
-  if (kind == RobustKind::kStudentT) {
-    return 0.5 * (nu + 1.0) * FastLog1p(static_cast<float>(r * r) * static_cast<float>(1.0 / (nu * sigma * sigma)));
-  }
-  const double a = std::abs(r);
-  return a < huber_k ? 0.5 * r * r : huber_k * a - 0.5 * huber_k * huber_k;
-}
-
 ErrorModel DefaultErrorModel(const RobustOptions& options) {
   ErrorModel m;
   m.kind = options.kind;
