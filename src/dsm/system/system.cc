@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/initializer.h"
 #include "dsm/util/check.h"
@@ -232,11 +234,14 @@ void System::TraceCandidates(const ImagePyramid& pyramid, const SE3d& frame_from
     tr.s = static_cast<float>(BrightnessRatio(host.affine, frame, host.exposure, exposure));
     tr.b_host = static_cast<float>(host.affine.b);
     tr.b_frame = static_cast<float>(frame.b);
-    for (Candidate& c : it->second) {
-      if (c.removed) continue;
+    // Each candidate is traced on its own: in parallel, with the result of a sequential loop.
+    std::vector<Candidate>& candidates = it->second;
+    tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t i) {
+      Candidate& c = candidates[i];
+      if (c.removed) return;
       const TraceStatus s = TraceCandidate(&c, pyramid, camera_, frame_from_host, tr, options_.epipolar);
       if (s == TraceStatus::kOutOfBounds || (s == TraceStatus::kOutlier && c.outlier_count >= 2)) c.removed = true;
-    }
+    });
   }
 }
 

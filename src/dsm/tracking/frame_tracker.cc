@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/tracking/frame_tracker.h"
 
+#include <array>
 #include <cmath>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
 
 #include "dsm/util/check.h"
 
@@ -70,29 +72,47 @@ FrameTracker::Accumulated FrameTracker::Evaluate(int l, const ImagePyramid& fram
   const float fx = static_cast<float>(level.camera.fx), fy = static_cast<float>(level.camera.fy);
   const float cx = static_cast<float>(level.camera.cx), cy = static_cast<float>(level.camera.cy);
   const float ea = static_cast<float>(std::exp(alpha)), fb = static_cast<float>(beta);
-  Accumulated acc;
-  Eigen::Matrix<double, 8, 1> J;
-  for (const LevelPoint& lp : level.points) {
-    const Eigen::Vector3f p = R * lp.q + t * lp.idepth;
-    if (!(p.z() > 1e-6f)) continue;
-    const float u = fx * p.x() / p.z() + cx, v = fy * p.y() / p.z() + cy;
-    if (!frame.InBounds(l, u, v, 2.f)) continue;
-    const float r = frame.SampleValue(l, u, v) - ea * lp.ref_value - fb;
-    const float sw = std::sqrt(lp.grad_weight);
-    const double rw = sw * r;
-    if (residuals) residuals->push_back(static_cast<float>(rw));
-    acc.energy += model.Energy(rw);
-    acc.bad += std::abs(rw) > model.inlier_threshold;
-    ++acc.valid;
-    if (!jacobians) continue;
-    const double w = lp.grad_weight * model.Weight(rw);
-    J << (-ea * lp.J_geo).cast<double>().transpose(), -ea * lp.ref_value, -1.0;
-    // Upper triangle only; mirrored after the loop.
-    for (int i = 0; i < 8; ++i) {
-      const double wji = w * J(i);
-      for (int j = i; j < 8; ++j) acc.H(i, j) += wji * J(j);
-      acc.b(i) += wji * r;
+  // Fixed chunks summed in order: the result does not depend on the thread schedule.
+  constexpr int kChunks = 16;
+  const size_t n = level.points.size();
+  std::array<Accumulated, kChunks> chunk_acc;
+  std::array<std::vector<float>, kChunks> chunk_residuals;
+  tbb::parallel_for(0, kChunks, [&](int chunk) {
+    Accumulated& acc = chunk_acc[chunk];
+    std::vector<float>* res = residuals ? &chunk_residuals[chunk] : nullptr;
+    Eigen::Matrix<double, 8, 1> J;
+    for (size_t i = n * chunk / kChunks; i < n * (chunk + 1) / kChunks; ++i) {
+      const LevelPoint& lp = level.points[i];
+      const Eigen::Vector3f p = R * lp.q + t * lp.idepth;
+      if (!(p.z() > 1e-6f)) continue;
+      const float u = fx * p.x() / p.z() + cx, v = fy * p.y() / p.z() + cy;
+      if (!frame.InBounds(l, u, v, 2.f)) continue;
+      const float r = frame.SampleValue(l, u, v) - ea * lp.ref_value - fb;
+      const float sw = std::sqrt(lp.grad_weight);
+      const double rw = sw * r;
+      if (res) res->push_back(static_cast<float>(rw));
+      acc.energy += model.Energy(rw);
+      acc.bad += std::abs(rw) > model.inlier_threshold;
+      ++acc.valid;
+      if (!jacobians) continue;
+      const double w = lp.grad_weight * model.Weight(rw);
+      J << (-ea * lp.J_geo).cast<double>().transpose(), -ea * lp.ref_value, -1.0;
+      // Upper triangle only; mirrored after the sum.
+      for (int a = 0; a < 8; ++a) {
+        const double wja = w * J(a);
+        for (int b = a; b < 8; ++b) acc.H(a, b) += wja * J(b);
+        acc.b(a) += wja * r;
+      }
     }
+  });
+  Accumulated acc;
+  for (int chunk = 0; chunk < kChunks; ++chunk) {
+    acc.H += chunk_acc[chunk].H;
+    acc.b += chunk_acc[chunk].b;
+    acc.energy += chunk_acc[chunk].energy;
+    acc.valid += chunk_acc[chunk].valid;
+    acc.bad += chunk_acc[chunk].bad;
+    if (residuals) residuals->insert(residuals->end(), chunk_residuals[chunk].begin(), chunk_residuals[chunk].end());
   }
   acc.H.triangularView<Eigen::StrictlyLower>() = acc.H.transpose();
   return acc;
