@@ -75,7 +75,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   nlohmann::json per_keyframe = nlohmann::json::array(), created = nlohmann::json::array();
   for (const SystemStats::KeyframeLog& k : s.per_keyframe) {
     per_keyframe.push_back({{"frame", k.frame}, {"points_created", k.points_created},
-                            {"reobservations", k.reobservations}, {"covisible", k.covisible}});
+                            {"reobservations", k.reobservations}, {"covisible", k.covisible},
+                            {"pba", {{"keyframes", k.pba_keyframes}, {"fixed_keyframes", k.pba_fixed_keyframes},
+                                     {"points", k.pba_points}, {"observations", k.pba_observations},
+                                     {"iterations", k.pba_iterations}}}});
     created.push_back(k.points_created);
   }
   summary.stats = {

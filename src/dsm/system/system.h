@@ -51,6 +51,9 @@ struct SystemStats {
     int points_created = 0;     // Points activated when it was mapped.
     int reobservations = 0;
     std::vector<int> covisible; // Keyframe ids of the covisible part of its window.
+    // Its bundle adjustment: keyframes in the problem (and how many of them fixed), points,
+    // observations, LM iterations over all levels.
+    int pba_keyframes = 0, pba_fixed_keyframes = 0, pba_points = 0, pba_observations = 0, pba_iterations = 0;
   };
   std::vector<KeyframeLog> per_keyframe;
   double global_ba_ms = -1.0;       // -1: not run.

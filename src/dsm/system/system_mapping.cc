@@ -1,7 +1,5 @@
 // SPDX-License-Identifier: MIT
 // Keyframe mapping: observations, window, activation, bundle adjustment, culling, candidates.
-#include <cstdlib>
-#include <cstdio>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -82,7 +80,12 @@ void System::MapNewKeyframe(int kf) {
   // asked otherwise (moving them cost accuracy on every synthetic scene).
   const std::vector<int> held = options_.window.optimize_covisible_poses ? std::vector<int>{} : covisible_;
   const PbaSummary pba = RunPba(&map_, camera_, ActiveKeyframes(), options_.pba, held);
-  if (std::getenv("DSM_PBA_LOG")) std::fprintf(stderr, "PBA it %d kf %d fixed %d pts %d obs %d ms %.0f\n", pba.iterations, pba.keyframes, pba.fixed_keyframes, pba.points, pba.observations, pba.time_ms);
+  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  log.pba_keyframes = pba.keyframes;
+  log.pba_fixed_keyframes = pba.fixed_keyframes;
+  log.pba_points = pba.points;
+  log.pba_observations = pba.observations;
+  log.pba_iterations = pba.iterations;
   stats_.pba_ms.push_back(pba.time_ms);
   CullPoints();
   SelectCandidates(kf);

@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "dsm/util/check.h"
@@ -72,47 +73,48 @@ FrameTracker::Accumulated FrameTracker::Evaluate(int l, const ImagePyramid& fram
   const float fx = static_cast<float>(level.camera.fx), fy = static_cast<float>(level.camera.fy);
   const float cx = static_cast<float>(level.camera.cx), cy = static_cast<float>(level.camera.cy);
   const float ea = static_cast<float>(std::exp(alpha)), fb = static_cast<float>(beta);
-  // Fixed chunks summed in order: the result does not depend on the thread schedule.
-  constexpr int kChunks = 16;
+  // Pass 1, in parallel: projection, sampling and robust energy per pixel (the memory-bound part).
+  // Pass 2, in pixel order: the sums, exactly those of a sequential loop whatever the threads.
+  struct PixelResult {
+    bool valid = false;
+    float r = 0.f;
+    double rw = 0.0, energy = 0.0;
+  };
   const size_t n = level.points.size();
-  std::array<Accumulated, kChunks> chunk_acc;
-  std::array<std::vector<float>, kChunks> chunk_residuals;
-  tbb::parallel_for(0, kChunks, [&](int chunk) {
-    Accumulated& acc = chunk_acc[chunk];
-    std::vector<float>* res = residuals ? &chunk_residuals[chunk] : nullptr;
-    Eigen::Matrix<double, 8, 1> J;
-    for (size_t i = n * chunk / kChunks; i < n * (chunk + 1) / kChunks; ++i) {
+  std::vector<PixelResult> pixels(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t i = range.begin(); i < range.end(); ++i) {
       const LevelPoint& lp = level.points[i];
       const Eigen::Vector3f p = R * lp.q + t * lp.idepth;
       if (!(p.z() > 1e-6f)) continue;
       const float u = fx * p.x() / p.z() + cx, v = fy * p.y() / p.z() + cy;
       if (!frame.InBounds(l, u, v, 2.f)) continue;
-      const float r = frame.SampleValue(l, u, v) - ea * lp.ref_value - fb;
-      const float sw = std::sqrt(lp.grad_weight);
-      const double rw = sw * r;
-      if (res) res->push_back(static_cast<float>(rw));
-      acc.energy += model.Energy(rw);
-      acc.bad += std::abs(rw) > model.inlier_threshold;
-      ++acc.valid;
-      if (!jacobians) continue;
-      const double w = lp.grad_weight * model.Weight(rw);
-      J << (-ea * lp.J_geo).cast<double>().transpose(), -ea * lp.ref_value, -1.0;
-      // Upper triangle only; mirrored after the sum.
-      for (int a = 0; a < 8; ++a) {
-        const double wja = w * J(a);
-        for (int b = a; b < 8; ++b) acc.H(a, b) += wja * J(b);
-        acc.b(a) += wja * r;
-      }
+      PixelResult& out = pixels[i];
+      out.valid = true;
+      out.r = frame.SampleValue(l, u, v) - ea * lp.ref_value - fb;
+      out.rw = std::sqrt(lp.grad_weight) * out.r;
+      out.energy = model.Energy(out.rw);
     }
   });
   Accumulated acc;
-  for (int chunk = 0; chunk < kChunks; ++chunk) {
-    acc.H += chunk_acc[chunk].H;
-    acc.b += chunk_acc[chunk].b;
-    acc.energy += chunk_acc[chunk].energy;
-    acc.valid += chunk_acc[chunk].valid;
-    acc.bad += chunk_acc[chunk].bad;
-    if (residuals) residuals->insert(residuals->end(), chunk_residuals[chunk].begin(), chunk_residuals[chunk].end());
+  Eigen::Matrix<double, 8, 1> J;
+  for (size_t i = 0; i < n; ++i) {
+    const PixelResult& px = pixels[i];
+    if (!px.valid) continue;
+    const LevelPoint& lp = level.points[i];
+    if (residuals) residuals->push_back(static_cast<float>(px.rw));
+    acc.energy += px.energy;
+    acc.bad += std::abs(px.rw) > model.inlier_threshold;
+    ++acc.valid;
+    if (!jacobians) continue;
+    const double w = lp.grad_weight * model.Weight(px.rw);
+    J << (-ea * lp.J_geo).cast<double>().transpose(), -ea * lp.ref_value, -1.0;
+    // Upper triangle only; mirrored after the loop.
+    for (int a = 0; a < 8; ++a) {
+      const double wja = w * J(a);
+      for (int b = a; b < 8; ++b) acc.H(a, b) += wja * J(b);
+      acc.b(a) += wja * px.r;
+    }
   }
   acc.H.triangularView<Eigen::StrictlyLower>() = acc.H.transpose();
   return acc;
