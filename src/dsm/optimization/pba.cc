@@ -48,11 +48,13 @@ struct PairAccumulator {
 };
 
 struct ObsState {
-  int target = -1;   // Problem camera index.
-  bool enabled = true;
-  // Gradient weights at the last linearisation: the energy of a trial step uses them too, so a
-  // step is judged on the function its Gauss–Newton model approximates.
-  std::array<float, kPatternSize> weight_g{};
+  int target = -1;  // Problem camera index.
+  // Two linearisations side by side, the accepted one and a trial's (Problem::current_ says which
+  // is which): whether the observation takes part, and its gradient weights. The energy of a
+  // trial step uses the accepted ones, so a step is judged on the function its Gauss–Newton model
+  // approximates.
+  std::array<bool, 2> enabled{true, true};
+  std::array<std::array<float, kPatternSize>, 2> weight_g{};
   int x = -1, y = -1;  // Where it last projected at this level (for prefetching); -1: not yet.
 };
 
@@ -102,7 +104,7 @@ class Problem {
             cams_.push_back(o.target);
             fixed_.push_back(true);
           }
-          ps.obs.push_back({index[o.target], true});
+          ps.obs.push_back({index[o.target]});
         }
         if (!ps.obs.empty()) points_.push_back(std::move(ps));
       }
@@ -175,10 +177,24 @@ class Problem {
     for (size_t c = 0; c < n; ++c) map_->keyframe(cams_[c]).error_model = models_[c];
   }
 
-  // Builds the normal equations at the current state, deciding which observations take part in
-  // this step (> skip ratio of bad pixels: weight 0), and returns the energy of that set. A trial
-  // step is judged on the same set (Energy()).
+  // Builds the normal equations at the current state and accepts them as the linearisation the
+  // next step is taken from; returns the energy of the observations taking part.
   double Linearize(NormalEquations* eq) {
+    const Trial trial = LinearizeTrial(eq);
+    Accept();
+    return trial.energy;
+  }
+
+  // One pass over the observations at a trial state: `judged` is its energy on the accepted
+  // linearisation's observation set and gradient weights (what the step is judged on), and *eq,
+  // `energy` the normal equations and energy of the trial's own linearisation, which deciding
+  // anew which observations take part in it (> skip ratio of bad pixels: weight 0). Accept()
+  // makes the latter the current linearisation; otherwise it is discarded.
+  struct Trial {
+    double judged = 0.0, energy = 0.0;
+  };
+  void Accept() { current_ ^= 1; }
+  Trial LinearizeTrial(NormalEquations* eq) {
     UpdatePairs();
     const int n = NumCameras();
     eq->Reset(n, NumPoints());
@@ -186,16 +202,19 @@ class Problem {
     chunk_pairs_.resize(kChunks);
     for (auto& chunk : chunk_pairs_) chunk.assign(num_slots_, PairAccumulator{});
     auto& chunk_pairs = chunk_pairs_;
-    std::vector<double> chunk_energy(kChunks, 0.0);
+    std::vector<double> chunk_energy(kChunks, 0.0), chunk_judged(kChunks, 0.0);
     tbb::parallel_for(0, kChunks, [&](int chunk) {
       const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
       for (size_t i = begin; i < end; ++i) {
         if (i + 1 < end) Prefetch(i + 1);
-        chunk_energy[chunk] += LinearizePoint(i, &chunk_pairs[chunk], &eq->points[i]);
+        chunk_energy[chunk] += LinearizePoint(i, &chunk_pairs[chunk], &eq->points[i], &chunk_judged[chunk]);
       }
     });
-    double energy = 0.0;
-    for (int chunk = 0; chunk < kChunks; ++chunk) energy += chunk_energy[chunk];
+    Trial trial;
+    for (int chunk = 0; chunk < kChunks; ++chunk) {
+      trial.energy += chunk_energy[chunk];
+      trial.judged += chunk_judged[chunk];
+    }
     for (int h = 0; h < n; ++h) {
       for (int t = 0; t < n; ++t) {
         const PairGeometry& g = pairs_[h * n + t];
@@ -215,34 +234,7 @@ class Problem {
         eq->b_c.segment<8>(it) += g.A_target.transpose() * sum.b;
       }
     }
-    return energy;
-  }
-
-  // Energy at the current state with the current models and enabled observations.
-  double Energy() {
-    UpdatePairs();
-    std::vector<double> chunk_energy(kChunks, 0.0);
-    tbb::parallel_for(0, kChunks, [&](int chunk) {
-      const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
-      for (size_t i = begin; i < end; ++i) {
-        const PointState& ps = points_[i];
-        if (i + 1 < end) Prefetch(i + 1);
-        if (!ps.patch_ok) continue;
-        for (const ObsState& o : ps.obs) {
-          if (!o.enabled) continue;
-          ObservationResiduals res;
-          if (Evaluate(ps, o, false, &res)) {
-            res.weight_g = o.weight_g;
-            chunk_energy[chunk] += PixelEnergy(res, models_[o.target], nullptr);
-          } else {
-            chunk_energy[chunk] += InvalidEnergy(models_[o.target]);
-          }
-        }
-      }
-    });
-    double energy = 0.0;
-    for (double e : chunk_energy) energy += e;
-    return energy;
+    return trial;
   }
 
   struct Backup {
@@ -302,7 +294,7 @@ class Problem {
       for (ObsState& o : ps.obs) {
         ObservationResiduals res;
         int bad = kPatternSize;
-        if (ps.patch_ok && Evaluate(ps, o, false, &res)) PixelEnergy(res, models_[o.target], &bad);
+        if (ps.patch_ok && Evaluate(ps, o, false, &res)) PixelEnergy(res.r, res.weight_g, models_[o.target], &bad);
         Observation* obs = p.FindObservation(cams_[o.target]);
         if (bad > options_.drop_outlier_ratio * kPatternSize) {
           obs->outlier = true;
@@ -356,6 +348,9 @@ class Problem {
   }
 
   bool Evaluate(const PointState& ps, const ObsState& o, bool jacobians, ObservationResiduals* res) const {
+    return Evaluate(ps, o, jacobians ? Derivatives::kAll : Derivatives::kNone, res);
+  }
+  bool Evaluate(const PointState& ps, const ObsState& o, Derivatives derivatives, ObservationResiduals* res) const {
     const PairGeometry& g = pairs_[ps.host * NumCameras() + o.target];
     const Keyframe& host = map_->keyframe(cams_[ps.host]);
     const Keyframe& target = map_->keyframe(cams_[o.target]);
@@ -370,15 +365,17 @@ class Problem {
     in.target_affine = target.affine;
     in.host_exposure = host.exposure;
     in.target_exposure = target.exposure;
-    return EvaluateObservation(ps.patch, in, jacobians, res);
+    return EvaluateObservation(ps.patch, in, derivatives, res);
   }
 
   // Robust energy of the 8 pixels; counts pixels above the inlier threshold into *bad.
-  static double PixelEnergy(const ObservationResiduals& res, const ErrorModel& model, int* bad) {
+  using PatternValues = std::array<float, kPatternSize>;
+  static double PixelEnergy(const PatternValues& residuals, const PatternValues& weight_g, const ErrorModel& model,
+                            int* bad) {
     double e = 0.0;
     int n_bad = 0;
     for (int k = 0; k < kPatternSize; ++k) {
-      const double r = std::sqrt(res.weight_g[k]) * res.r[k];
+      const double r = std::sqrt(weight_g[k]) * residuals[k];
       e += model.Energy(r);
       n_bad += std::abs(r) > model.inlier_threshold;
     }
@@ -387,29 +384,35 @@ class Problem {
   }
   static double InvalidEnergy(const ErrorModel& model) { return kPatternSize * model.Energy(2.0 * model.inlier_threshold); }
 
-  double LinearizePoint(size_t i, std::vector<PairAccumulator>* pairs, NormalEquations::PointBlock* block) {
+  // Linearises point i's observations into the trial slot (returns their energy) and adds their
+  // energy on the accepted slot's set and weights to *judged.
+  double LinearizePoint(size_t i, std::vector<PairAccumulator>* pairs, NormalEquations::PointBlock* block,
+                        double* judged) {
     PointState& ps = points_[i];
     if (!ps.patch_ok) return 0.0;
     const int n = NumCameras();
+    const int cur = current_, trial = current_ ^ 1;
     double energy = 0.0;
     for (ObsState& o : ps.obs) {
       ObservationResiduals res;
       const ErrorModel& model = models_[o.target];
-      if (!Evaluate(ps, o, true, &res)) {
-        o.enabled = true;
+      // Between two fixed keyframes only the inverse depth moves.
+      const PairGeometry& g = pairs_[ps.host * n + o.target];
+      if (!Evaluate(ps, o, g.slot >= 0 ? Derivatives::kAll : Derivatives::kIdepth, &res)) {
+        if (o.enabled[cur]) *judged += InvalidEnergy(model);
+        o.enabled[trial] = true;
         energy += InvalidEnergy(model);
         continue;
       }
-      o.weight_g = res.weight_g;
+      if (o.enabled[cur]) *judged += PixelEnergy(res.r, o.weight_g[cur], model, nullptr);
+      o.weight_g[trial] = res.weight_g;
       Remember(res, &o);
       int bad = 0;
-      const double e = PixelEnergy(res, model, &bad);
-      o.enabled = bad <= options_.skip_outlier_ratio * kPatternSize;
-      if (!o.enabled) continue;
+      const double e = PixelEnergy(res.r, res.weight_g, model, &bad);
+      o.enabled[trial] = bad <= options_.skip_outlier_ratio * kPatternSize;
+      if (!o.enabled[trial]) continue;
       energy += e;
       // Per pixel: w = w_g * w_rho(sqrt(w_g) r).
-      Eigen::Matrix<double, kPatternSize, 10> Jx;
-      Jx << res.J_pose.cast<double>(), res.J_affine.cast<double>();
       const Eigen::Matrix<double, kPatternSize, 1> Jr = res.J_idepth.cast<double>();
       Eigen::Matrix<double, kPatternSize, 1> w, r;
       for (int k = 0; k < kPatternSize; ++k) {
@@ -417,18 +420,20 @@ class Problem {
         w(k) = res.weight_g[k] * model.Weight(std::sqrt(res.weight_g[k]) * rk);
         r(k) = rk;
       }
-      const Eigen::Matrix<double, 10, kPatternSize> JxtW = Jx.transpose() * w.asDiagonal();
-      const PairGeometry& g = pairs_[ps.host * n + o.target];
-      if (g.slot >= 0) {
-        PairAccumulator& acc = (*pairs)[g.slot];
-        acc.H.noalias() += JxtW * Jx;
-        acc.b.noalias() += JxtW * r;
-      }
-      const Vector10 h_xp = JxtW * Jr;
       block->H_pp += Jr.dot(w.asDiagonal() * Jr);
       block->b_p += Jr.dot(w.asDiagonal() * r);
-      NormalEquations::AddCoupling(block, ps.host, g.A_host.transpose() * h_xp);
-      NormalEquations::AddCoupling(block, o.target, g.A_target.transpose() * h_xp);
+      if (g.slot < 0) continue;
+      // Camera blocks and the point's coupling to the free keyframes (a fixed one's would be
+      // dropped by the Schur complement and multiply a zero step in the back-substitution).
+      Eigen::Matrix<double, kPatternSize, 10> Jx;
+      Jx << res.J_pose.cast<double>(), res.J_affine.cast<double>();
+      const Eigen::Matrix<double, 10, kPatternSize> JxtW = Jx.transpose() * w.asDiagonal();
+      PairAccumulator& acc = (*pairs)[g.slot];
+      acc.H.noalias() += JxtW * Jx;
+      acc.b.noalias() += JxtW * r;
+      const Vector10 h_xp = JxtW * Jr;
+      if (!fixed_[ps.host]) NormalEquations::AddCoupling(block, ps.host, g.A_host.transpose() * h_xp);
+      if (!fixed_[o.target]) NormalEquations::AddCoupling(block, o.target, g.A_target.transpose() * h_xp);
     }
     return energy;
   }
@@ -443,6 +448,7 @@ class Problem {
   std::vector<PairGeometry> pairs_;
   std::vector<std::vector<PairAccumulator>> chunk_pairs_;
   int num_slots_ = 0;
+  int current_ = 0;  // Slot of the accepted linearisation in ObsState.
   int level_ = 0;
   PinholeCamera level_camera_;
 };
@@ -460,7 +466,7 @@ PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>&
   summary.points = problem.NumPoints();
   summary.observations = problem.NumObservations();
   if (problem.NumPoints() == 0) return summary;
-  NormalEquations eq;
+  NormalEquations eq, trial_eq;
   for (int level = options.levels - 1; level >= 0; --level) {
     problem.SetLevel(level);
     problem.FitModels();
@@ -472,10 +478,12 @@ PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>&
       const Problem::Backup backup = problem.Save();
       const Solution step = SolveSchur(eq, lambda, problem.fixed());
       const bool converged = problem.Apply(step);
-      const double new_energy = problem.Energy();
-      if (new_energy < energy) {
+      const Problem::Trial trial = problem.LinearizeTrial(&trial_eq);
+      if (trial.judged < energy) {
         lambda = std::max(lambda * 0.25, 1e-8);
-        energy = problem.Linearize(&eq);
+        problem.Accept();
+        std::swap(eq, trial_eq);
+        energy = trial.energy;
         if (converged) break;
       } else {
         problem.Restore(backup);

@@ -19,7 +19,8 @@ bool SampleHostPatch(const ImagePyramid& host, int level, const Eigen::Vector2f&
   return true;
 }
 
-bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, bool jacobians, ObservationResiduals* out) {
+bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, Derivatives derivatives,
+                         ObservationResiduals* out) {
   const PinholeCamera& cam = *in.camera;
   const float fx = static_cast<float>(cam.fx), fy = static_cast<float>(cam.fy);
   const float cx = static_cast<float>(cam.cx), cy = static_cast<float>(cam.cy);
@@ -45,13 +46,14 @@ bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, bool
     const float it_minus_b = g[0] - b_t;
     out->r[k] = (host.value[k] - b_h) - s * it_minus_b;
     out->weight_g[k] = 0.5f * (GradientWeight(host.grad_sq[k]) + GradientWeight(g[1] * g[1] + g[2] * g[2]));
-    if (!jacobians) continue;
+    if (derivatives == Derivatives::kNone) continue;
     // d r / d p = -s grad I_t^T J_pi
     const float dx = -s * g[1], dy = -s * g[2];
     const float Jp0 = dx * fx * iz, Jp1 = dy * fy * iz;
     const float Jp2 = -(dx * fx * p.x() + dy * fy * p.y()) * iz * iz;
     const Eigen::Vector3f dr_dp(Jp0, Jp1, Jp2);
     out->J_idepth(k) = dr_dp.dot(in.t);
+    if (derivatives == Derivatives::kIdepth) continue;
     // d p / d xi = [rho I, -hat(p)]  ->  d r / d w = (p x dr_dp) ... = dr_dp^T (-hat(p)) = (p x dr_dp)^T
     out->J_pose.block<1, 3>(k, 0) = in.idepth * dr_dp.transpose();
     out->J_pose.block<1, 3>(k, 3) = p.cross(dr_dp).transpose();

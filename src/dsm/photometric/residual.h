@@ -72,9 +72,16 @@ struct ObservationResiduals {
   Eigen::Matrix<float, kPatternSize, 4> J_affine;  // (a_h, b_h, a_t, b_t)
 };
 
-// Evaluates the 8 residuals; false when the point is behind the target or a pattern pixel falls
-// outside it (border 2 px).
-bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, bool jacobians, ObservationResiduals* out);
+// Evaluates the 8 residuals and the derivatives asked for (kIdepth: J_idepth only, all a solve
+// needs when both keyframes are fixed); false when the point is behind the target or a pattern
+// pixel falls outside it (border 2 px).
+enum class Derivatives { kNone, kIdepth, kAll };
+bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, Derivatives derivatives,
+                         ObservationResiduals* out);
+inline bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, bool jacobians,
+                                ObservationResiduals* out) {
+  return EvaluateObservation(host, in, jacobians ? Derivatives::kAll : Derivatives::kNone, out);
+}
 
 // s = e^(a_h - a_t) tau_h / tau_t
 inline double BrightnessRatio(const AffineBrightness& host, const AffineBrightness& target, double host_exposure,
