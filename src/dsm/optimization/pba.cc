@@ -401,6 +401,7 @@ class Problem {
       if (!Evaluate(ps, o, g.slot >= 0 ? Derivatives::kAll : Derivatives::kIdepth, &res)) {
         if (o.enabled[cur]) *judged += InvalidEnergy(model);
         o.enabled[trial] = true;
+        o.weight_g[trial] = o.weight_g[cur];  // Kept from the last linearisation that had them.
         energy += InvalidEnergy(model);
         continue;
       }
