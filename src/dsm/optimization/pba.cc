@@ -47,6 +47,8 @@ struct PairAccumulator {
   Vector10 b = Vector10::Zero();
 };
 
+using PatternValues = std::array<float, kPatternSize>;
+
 struct ObsState {
   int target = -1;  // Problem camera index.
   // Two linearisations side by side, the accepted one and a trial's (Problem::current_ says which
@@ -54,13 +56,14 @@ struct ObsState {
   // trial step uses the accepted ones, so a step is judged on the function its Gauss–Newton model
   // approximates.
   std::array<bool, 2> enabled{true, true};
-  std::array<std::array<float, kPatternSize>, 2> weight_g{};
+  std::array<PatternValues, 2> weight_g{};
   int x = -1, y = -1;  // Where it last projected at this level (for prefetching); -1: not yet.
 };
 
 struct PointState {
   int id = -1;
-  int host = -1;  // Problem camera index.
+  int host = -1;        // Problem camera index.
+  int first_obs = 0;    // Index of its first observation in the problem's flat observation order.
   HostPatch patch;
   bool patch_ok = false;
   std::vector<ObsState> obs;
@@ -106,7 +109,11 @@ class Problem {
           }
           ps.obs.push_back({index[o.target]});
         }
-        if (!ps.obs.empty()) points_.push_back(std::move(ps));
+        if (!ps.obs.empty()) {
+          ps.first_obs = num_obs_;
+          num_obs_ += static_cast<int>(ps.obs.size());
+          points_.push_back(std::move(ps));
+        }
       }
     }
     // A camera tied to the rest by few observations is nearly free (its motion barely changes
@@ -125,11 +132,7 @@ class Problem {
   int NumCameras() const { return static_cast<int>(cams_.size()); }
   int NumFixed() const { return static_cast<int>(std::count(fixed_.begin(), fixed_.end(), true)); }
   int NumPoints() const { return static_cast<int>(points_.size()); }
-  int NumObservations() const {
-    int n = 0;
-    for (const auto& p : points_) n += static_cast<int>(p.obs.size());
-    return n;
-  }
+  int NumObservations() const { return num_obs_; }
   const std::vector<bool>& fixed() const { return fixed_; }
 
   void SetLevel(int level) {
@@ -147,10 +150,13 @@ class Problem {
 
   // Fits each camera's error model to the current residuals of the observations in it. Residuals
   // are gathered in parallel chunks and concatenated in point order; the fits run in parallel per
-  // camera: the result is that of the sequential loop.
+  // camera: the result is that of the sequential loop. The weighted residuals of every observation
+  // are kept for MarkOutliers.
   void FitModels() {
     UpdatePairs();
     const size_t n = cams_.size();
+    fit_valid_.assign(num_obs_, 0);
+    fit_residuals_.resize(num_obs_);
     std::vector<std::vector<std::vector<float>>> chunk_residuals(kChunks, std::vector<std::vector<float>>(n));
     tbb::parallel_for(0, kChunks, [&](int chunk) {
       const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
@@ -158,12 +164,18 @@ class Problem {
         PointState& ps = points_[i];
         if (i + 1 < end) Prefetch(i + 1);
         if (!ps.patch_ok) continue;
-        for (ObsState& o : ps.obs) {
+        for (size_t j = 0; j < ps.obs.size(); ++j) {
+          ObsState& o = ps.obs[j];
           ObservationResiduals res;
           if (!Evaluate(ps, o, false, &res)) continue;
           Remember(res, &o);
           std::vector<float>& out = chunk_residuals[chunk][o.target];
-          for (int k = 0; k < kPatternSize; ++k) out.push_back(std::sqrt(res.weight_g[k]) * res.r[k]);
+          PatternValues& kept = fit_residuals_[ps.first_obs + j];
+          for (int k = 0; k < kPatternSize; ++k) {
+            kept[k] = std::sqrt(res.weight_g[k]) * res.r[k];
+            out.push_back(kept[k]);
+          }
+          fit_valid_[ps.first_obs + j] = 1;
         }
       }
     });
@@ -286,15 +298,19 @@ class Problem {
   }
 
   // After the PBA: marks observations with too many bad pixels (level 0, fitted models).
+  // Uses the residuals of the last FitModels (and the models it fitted).
   int MarkOutliers() {
-    UpdatePairs();
     int removed = 0;
     for (PointState& ps : points_) {
       Point& p = map_->point(ps.id);
-      for (ObsState& o : ps.obs) {
-        ObservationResiduals res;
+      for (size_t j = 0; j < ps.obs.size(); ++j) {
+        const ObsState& o = ps.obs[j];
         int bad = kPatternSize;
-        if (ps.patch_ok && Evaluate(ps, o, false, &res)) PixelEnergy(res.r, res.weight_g, models_[o.target], &bad);
+        if (fit_valid_[ps.first_obs + j]) {
+          const double threshold = models_[o.target].inlier_threshold;
+          bad = 0;
+          for (float r : fit_residuals_[ps.first_obs + j]) bad += std::abs(r) > threshold;
+        }
         Observation* obs = p.FindObservation(cams_[o.target]);
         if (bad > options_.drop_outlier_ratio * kPatternSize) {
           obs->outlier = true;
@@ -369,7 +385,6 @@ class Problem {
   }
 
   // Robust energy of the 8 pixels; counts pixels above the inlier threshold into *bad.
-  using PatternValues = std::array<float, kPatternSize>;
   static double PixelEnergy(const PatternValues& residuals, const PatternValues& weight_g, const ErrorModel& model,
                             int* bad) {
     double e = 0.0;
@@ -449,6 +464,9 @@ class Problem {
   std::vector<PairGeometry> pairs_;
   std::vector<std::vector<PairAccumulator>> chunk_pairs_;
   int num_slots_ = 0;
+  int num_obs_ = 0;
+  std::vector<uint8_t> fit_valid_;             // Per observation: evaluated by the last FitModels.
+  std::vector<PatternValues> fit_residuals_;   // Its weighted residuals sqrt(w_g) r.
   int current_ = 0;  // Slot of the accepted linearisation in ObsState.
   int level_ = 0;
   PinholeCamera level_camera_;
@@ -494,8 +512,7 @@ PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>&
     }
     summary.final_energy = energy;
   }
-  problem.SetLevel(0);
-  problem.FitModels();
+  problem.FitModels();  // At level 0, where the loop ended.
   summary.observations_removed = problem.MarkOutliers();
   summary.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return summary;
