@@ -158,6 +158,12 @@ TEST(Cli, RunWritesTrajectoriesStatsAndEvaluation) {
   EXPECT_TRUE(eval["frames"]["ape"].contains("rmse"));
   EXPECT_TRUE(eval["keyframes_before_global_ba"]["ape"].contains("rmse"));
   EXPECT_GT(stats["timing_ms"]["global_ba"].get<double>(), 0.0);
+  // Speed against the recording: 60 frames at the synthetic 20 Hz span 3 s.
+  EXPECT_NEAR(stats["recording_s"].get<double>(), 3.0, 1e-6);
+  EXPECT_NEAR(stats["realtime_factor"].get<double>() * stats["processing_s"].get<double>(), 3.0, 1e-6);
+  EXPECT_NEAR(stats["frames_per_second"].get<double>() * stats["processing_s"].get<double>(), 60.0, 1e-6);
+  EXPECT_LE(stats["processing_s"].get<double>(), stats["wall_s"].get<double>());
+  EXPECT_TRUE(Contains(r.output, "x real time"));
   // Trajectories: TUM rows with nanosecond timestamps.
   const Trajectory frames = ReadTrajectory(dir / "out" / "frames.tum", TrajectoryFormat::kTum);
   EXPECT_EQ(static_cast<int>(frames.size()), stats["frames_tracked"].get<int>());

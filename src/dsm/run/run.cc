@@ -49,6 +49,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
 
   const Undistorter undistorter(dataset.camera, {dataset.undistort_mode, 1 << (options.system.pyramid_levels - 1)});
   System system(undistorter.output(), options.system);
+  const auto process0 = std::chrono::steady_clock::now();
   for (int i = options.start; i < end; ++i) {
     const Image<uint8_t> raw = dataset.LoadImage(i);
     const Image<float> irradiance = dataset.photometric ? dataset.photometric->ToIrradiance(raw) : ToFloat(raw);
@@ -60,6 +61,14 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     }
   }
 
+  // Speed against the recording: the frames' time span (one frame interval per frame) over the
+  // time spent reading and processing them; > 1 is faster than real time.
+  const double process_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - process0).count();
+  const int processed = end - options.start;
+  const double recording_s =
+      processed > 1 ? 1e-9 * static_cast<double>(dataset.frames[end - 1].t_ns - dataset.frames[options.start].t_ns) *
+                          processed / (processed - 1)
+                    : 0.0;
   std::optional<Trajectory> before_global_ba;
   if (options.global_ba) {
     before_global_ba = system.KeyframeTrajectory();
@@ -97,10 +106,21 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                      {"pba", TimingStats(s.pba_ms)}}},
   };
   if (options.global_ba) summary.stats["timing_ms"]["global_ba"] = s.global_ba_ms;
+  summary.stats["processing_s"] = process_s;
+  summary.stats["frames_per_second"] = processed / process_s;
+  if (recording_s > 0.0) {
+    summary.stats["recording_s"] = recording_s;
+    summary.stats["realtime_factor"] = recording_s / process_s;
+  }
   char line[512];
-  std::snprintf(line, sizeof(line), "%d/%d frames tracked, %d keyframes, %d points, initialised at frame %d",
-                s.frames_tracked, s.frames, s.keyframes, system.NumMapPoints(), s.initialized_at_frame);
+  std::snprintf(line, sizeof(line), "%d/%d frames tracked, %d keyframes, %d points, initialised at frame %d, %.1f fps",
+                s.frames_tracked, s.frames, s.keyframes, system.NumMapPoints(), s.initialized_at_frame,
+                processed / process_s);
   summary.line = line;
+  if (recording_s > 0.0) {
+    std::snprintf(line, sizeof(line), " (%.2fx real time)", recording_s / process_s);
+    summary.line += line;
+  }
   if (dataset.HasGroundTruth() && keyframes.size() >= 3 && frames.size() >= 3) {
     EvalOptions eval;
     eval.align = Alignment::kSim3;
