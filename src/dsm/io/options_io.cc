@@ -31,6 +31,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["tracker.levels"] = Set(&o->tracker.levels);
   s["tracker.iterations"] = Set(&o->tracker.iterations);
   s["tracker.min_usage"] = Set(&o->tracker.min_usage);
+  s["tracker.convergence_px"] = Set(&o->tracker.convergence_px);
   s["candidates.target_count"] = Set(&o->candidates.target_count);
   s["candidates.threshold_margin"] = Set(&o->candidates.threshold_margin);
   s["candidates.border"] = Set(&o->candidates.border);

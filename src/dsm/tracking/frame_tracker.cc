@@ -18,6 +18,7 @@ void TrackerOptions::Validate() const {
   for (int it : iterations)
     if (it < 1) throw InputError("tracker.iterations must be positive");
   if (!(min_usage > 0 && min_usage < 1)) throw InputError("tracker.min_usage must be in (0, 1)");
+  if (!(convergence_px > 0 && convergence_px < 1)) throw InputError("tracker.convergence_px must be in (0, 1)");
   robust.Validate();
 }
 
@@ -155,6 +156,10 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
       if (!delta.allFinite()) break;
       const SE3d T_new = T * SE3d::Exp(delta.head<6>()).Inverse();
       const double alpha_new = alpha + delta(6), beta_new = beta + delta(7);
+      const double f = std::max(levels_[l].camera.fx, levels_[l].camera.fy);
+      const bool small = delta.segment<3>(3).norm() * f + delta.head<3>().norm() * f * mean_idepth_ <
+                             options_.convergence_px &&
+                         std::abs(delta(6)) < 1e-4;
       const Accumulated next = Evaluate(l, frame, T_new, alpha_new, beta_new, model, true, nullptr);
       // Compare mean energies so that pixels leaving the image do not look like progress.
       const bool better = next.valid > 0 && next.energy / next.valid < acc.energy / std::max(acc.valid, 1) &&
@@ -162,11 +167,11 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
       if (better) {
         T = T_new, alpha = alpha_new, beta = beta_new, acc = next;
         lambda = std::max(lambda * 0.5, 1e-6);
-        if (delta.head<6>().norm() < 1e-6 && std::abs(delta(6)) < 1e-6) break;
       } else {
         lambda *= 4.0;
         if (lambda > 1e3) break;
       }
+      if (small) break;
     }
     if (l == 0) {
       std::vector<float> final_residuals;

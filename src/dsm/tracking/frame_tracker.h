@@ -31,6 +31,10 @@ struct TrackerOptions {
   std::vector<int> iterations = {10, 20, 50, 75};  // Per level, index = level.
   RobustOptions robust = TrackerRobustDefaults();
   double min_usage = 0.1;                       // Lost below this share of usable points.
+  // A level is done once a step would move the image by less than this (pixels of that level,
+  // bound at the image centre: |w| f + |v| f mean_idepth), accepted or not: smaller steps are
+  // below what the sampled energy resolves, and LM would only raise its damping on them.
+  double convergence_px = 0.01;
 
   // The t-fit runs at every level of every frame: a smaller sample than the PBA's.
   static RobustOptions TrackerRobustDefaults() {
