@@ -445,7 +445,8 @@ class Problem {
       Jx << res.J_pose.cast<double>(), res.J_affine.cast<double>();
       const Eigen::Matrix<double, 10, kPatternSize> JxtW = Jx.transpose() * w.asDiagonal();
       PairAccumulator& acc = (*pairs)[g.slot];
-      acc.H.noalias() += JxtW * Jx;
+      // Coefficient-wise: a 10x8x10 product is below the size where Eigen's blocked GEMM pays.
+      acc.H.noalias() += JxtW.lazyProduct(Jx);
       acc.b.noalias() += JxtW * r;
       const Vector10 h_xp = JxtW * Jr;
       if (!fixed_[ps.host]) NormalEquations::AddCoupling(block, ps.host, g.A_host.transpose() * h_xp);

@@ -26,8 +26,8 @@ struct PbaOptions {
   int levels = 2;              // Pyramid levels, coarse to fine: levels-1 .. 0 (N_p of the paper).
   int max_iterations = 12;     // Per level (6 costs accuracy on the synthetic corridor, 30 buys nothing).
   double initial_lambda = 1e-4;
-  int min_camera_observations = 50;
-  int max_outside_observations = 3;  // Per point of a held keyframe: the newest ones outside the window.  // An active keyframe in fewer observations stays fixed.
+  int min_camera_observations = 50;  // An active keyframe in fewer observations stays fixed.
+  int max_outside_observations = 3;  // Per point of a held keyframe: the newest ones outside the window.
   RobustOptions robust;
   double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
   double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
