@@ -28,18 +28,18 @@ CovisibleSelection SelectCovisibleKeyframes(const Map& map, const PinholeCamera&
   };
   std::vector<Projected> projected(old.size());
   tbb::parallel_for(size_t{0}, old.size(), [&](size_t i) {
-    Projected& out = projected[i];
+    Projected& mine = projected[i];
     for (int pid : map.keyframe(old[i]).points) {
       const Point& p = map.point(pid);
       if (p.removed) continue;
-      ++out.live_points;
+      ++mine.live_points;
       Eigen::Vector2f px;
       float rho;
       if (ProjectPoint(map, camera, p, newest, 0.f, &px, &rho) &&
           ViewAngleDeg(map, camera, p, newest) <= options.max_view_angle_deg) {
-        out.pixels.push_back(px);
+        mine.pixels.push_back(px);
         const float scale = rho / p.idepth;  // Distance in the host over distance in the newest keyframe.
-        out.same_scale.push_back(scale <= options.max_scale_change && scale >= 1.f / options.max_scale_change);
+        mine.same_scale.push_back(scale <= options.max_scale_change && scale >= 1.f / options.max_scale_change);
       }
     }
   });

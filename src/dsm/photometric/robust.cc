@@ -55,12 +55,6 @@ void RobustOptions::Validate() const {
   if (max_fit_samples < min_residuals) throw InputError("robust.max_fit_samples must be >= robust.min_residuals");
 }
 
-double ErrorModel::Weight(double r) const {
-  if (kind == RobustKind::kStudentT) return (nu + 1.0) / (nu * sigma * sigma + r * r);
-  const double a = std::abs(r);
-  return a < huber_k ? 1.0 : huber_k / a;
-}
-
 ErrorModel DefaultErrorModel(const RobustOptions& options) {
   ErrorModel m;
   m.kind = options.kind;

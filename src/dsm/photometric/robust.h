@@ -42,8 +42,8 @@ struct ErrorModel {
   double huber_k = 9.0; // Huber threshold
   double inlier_threshold = 15.1;  // |r| above this marks an outlier pixel
 
-  double Weight(double r) const;
-  double Energy(double r) const;  // Inline below: the hottest call of the system.
+  double Weight(double r) const;  // Both inline below: the hottest calls of the system.
+  double Energy(double r) const;
 };
 
 // log(1 + x) for x >= 0 to ~1e-6 relative: log(m 2^e) = e ln 2 + log(m), m in [1, 2), with
@@ -60,6 +60,12 @@ inline float FastLog1p(float x) {
   const float z = (m - 1.f) / (m + 1.f), z2 = z * z;
   const float series = z * (2.f + z2 * (2.f / 3.f + z2 * (2.f / 5.f + z2 * (2.f / 7.f + z2 * (2.f / 9.f)))));
   return static_cast<float>(e) * 0.69314718f + series;
+}
+
+inline double ErrorModel::Weight(double r) const {
+  if (kind == RobustKind::kStudentT) return (nu + 1.0) / (nu * sigma * sigma + r * r);
+  const double a = std::abs(r);
+  return a < huber_k ? 1.0 : huber_k / a;
 }
 
 inline double ErrorModel::Energy(double r) const {
