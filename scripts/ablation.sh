@@ -3,14 +3,21 @@
 # synthetic scenes and the shared EuRoC frames and prints a markdown table of keyframe ATE
 # (Sim(3)), keyframes, map points, points created and PBA time per keyframe.
 #
-# Usage: ./scripts/ablation.sh [--jobs N] [--sequences "loop forward euroc"] [--configs "dsm sw ..."] [--work DIR]
+# Usage: ./scripts/ablation.sh [--jobs N] [--sequences "loop forward euroc"] [--configs "dsm sw ..."]
+#                              [--seeds "1 2 3"] [--work DIR]
 #   configs: dsm (defaults), sw (N_c = 0), nc3, nc1, nt3, nt6, levels1, levels3, huber, huber-mad,
 #            move-covisible (covisible poses optimised, as in the paper), global-ba
+#   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
+#            more than one seed a row gives the median over the seeds, the ATE also as
+#            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
+#            scene move by tens of percent with rounding alone, so compare variants on several seeds.
+#            EuRoC has one run per config.
 # Timings are per process; with --jobs > 1 the runs share the cores (default: 1 job).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 JOBS=1
+SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure euroc"
 CONFIGS="dsm sw nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba"
 WORK="ablation_out"
@@ -19,9 +26,14 @@ while (($#)); do
     --jobs) JOBS="$2"; shift 2 ;;
     --sequences) SEQUENCES="$2"; shift 2 ;;
     --configs) CONFIGS="$2"; shift 2 ;;
+    --seeds) SEEDS="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
     *) echo "ablation: unknown argument '$1'" >&2; exit 2 ;;
   esac
+done
+
+for seed in $SEEDS; do
+  [[ "$seed" =~ ^[0-9]+$ ]] || { echo "ablation: --seeds: '$seed' is not a non-negative integer" >&2; exit 2; }
 done
 
 ./scripts/setup.sh >/dev/null
@@ -48,37 +60,56 @@ args_for() {
   esac
 }
 
-dataset_for() {
+# Runs of a sequence: "name dataset" per line (one per seed for the synthetic scenes).
+runs_for() {
   if [ "$1" = euroc ]; then
-    echo "$DATA/euroc_mh01_shake"
-  else
-    [ -d "$WORK/seq_$1" ] || "$DSM" synth --scene "$1" --out "$WORK/seq_$1" >/dev/null
-    echo "$WORK/seq_$1"
+    echo "euroc $DATA/euroc_mh01_shake"
+    return
   fi
+  for seed in $SEEDS; do
+    local name="$1"
+    [ "$seed" = 1 ] || name="$1_seed$seed"
+    [ -d "$WORK/seq_$name" ] || "$DSM" synth --scene "$1" --seed "$seed" --out "$WORK/seq_$name" >/dev/null
+    echo "$name $WORK/seq_$name"
+  done
 }
 
 jobs_list=()
 for s in $SEQUENCES; do
-  d="$(dataset_for "$s")"
-  for c in $CONFIGS; do
-    jobs_list+=("$DSM run $d --out $WORK/run_${s}_$c --quiet $(args_for "$c") > $WORK/run_${s}_$c.log 2>&1")
-  done
+  while read -r name d; do
+    for c in $CONFIGS; do
+      jobs_list+=("$DSM run $d --out $WORK/run_${name}_$c --quiet $(args_for "$c") > $WORK/run_${name}_$c.log 2>&1")
+    done
+  done < <(runs_for "$s")
 done
 printf '%s\n' "${jobs_list[@]}" | xargs -P "$JOBS" -I{} sh -c '{} || echo "failed: {}" >&2'
 
-echo "| sequence | config | KF ATE (mm) | keyframes | map points | points created | PBA ms/KF (mean) |"
-echo "|---|---|---|---|---|---|---|"
+# One row per sequence and config: medians over the seeds' runs that finished.
+echo "| sequence | config | KF ATE (mm) | keyframes | map points | points created | PBA ms/KF (mean) | runs | ATE per seed (mm) |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for s in $SEQUENCES; do
+  names=$(runs_for "$s" | cut -d' ' -f1)
   for c in $CONFIGS; do
-    out="$WORK/run_${s}_$c"
-    if [ ! -f "$out/stats.json" ]; then
-      echo "| $s | $c | failed | | | | |"
+    rows=()
+    for name in $names; do
+      out="$WORK/run_${name}_$c"
+      [ -f "$out/stats.json" ] || continue
+      ate=null
+      [ -f "$out/eval.json" ] && ate=$(jq '.keyframes.ape.rmse * 1000' "$out/eval.json")
+      rows+=("$(jq -c --argjson ate "$ate" '{ate: $ate, kf: .keyframes, pts: .map_points, created: .points_created, pba: .timing_ms.pba.mean}' "$out/stats.json")")
+    done
+    total=$(echo "$names" | wc -w)
+    if [ ${#rows[@]} -eq 0 ]; then
+      echo "| $s | $c | failed | | | | | 0/$total | |"
       continue
     fi
-    ate="n/a"
-    [ -f "$out/eval.json" ] && ate=$(jq -r '.keyframes.ape.rmse * 1000 | . * 100 | round / 100' "$out/eval.json")
-    jq -r --arg s "$s" --arg c "$c" --arg ate "$ate" \
-      '"| \($s) | \($c) | \($ate) | \(.keyframes) | \(.map_points) | \(.points_created) | \(.timing_ms.pba.mean | round) |"' \
-      "$out/stats.json"
+    printf '%s\n' "${rows[@]}" | jq -rs --arg s "$s" --arg c "$c" --arg total "$total" '
+      def median: sort | if length % 2 == 1 then .[length / 2 | floor] else (.[length / 2 - 1] + .[length / 2]) / 2 end;
+      def r2: . * 100 | round / 100;
+      (map(.ate) | map(select(. != null))) as $ates
+      | (if ($ates | length) == 0 then "n/a"
+         elif length == 1 then ($ates[0] | r2 | tostring)
+         else "\($ates | median | r2) [\($ates | min | r2), \($ates | max | r2)]" end) as $ate
+      | "| \($s) | \($c) | \($ate) | \(map(.kf) | median | round) | \(map(.pts) | median | round) | \(map(.created) | median | round) | \(map(.pba) | median | round) | \(length)/\($total) | \($ates | map(r2 | tostring) | join(", ")) |"'
   done
 done
