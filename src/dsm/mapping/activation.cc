@@ -98,7 +98,7 @@ bool RefineCandidate(const Map& map, const PinholeCamera& camera, int host_id, c
     if (!evaluate(t, rho, false, &res)) continue;
     int good = 0;
     for (int k = 0; k < kPatternSize; ++k)
-      good += std::abs(std::sqrt(res.weight_g[k]) * res.r[k]) <= t.kf->error_model.inlier_threshold;
+      good += !t.kf->error_model.IsOutlier(std::sqrt(res.weight_g[k]) * res.r[k]);
     if (good >= options.min_inlier_ratio * kPatternSize) out->targets.push_back(t.id);
   }
   return !out->targets.empty();

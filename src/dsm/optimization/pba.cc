@@ -307,9 +307,8 @@ class Problem {
         const ObsState& o = ps.obs[j];
         int bad = kPatternSize;
         if (fit_valid_[ps.first_obs + j]) {
-          const double threshold = models_[o.target].inlier_threshold;
           bad = 0;
-          for (float r : fit_residuals_[ps.first_obs + j]) bad += std::abs(r) > threshold;
+          for (float r : fit_residuals_[ps.first_obs + j]) bad += models_[o.target].IsOutlier(r);
         }
         Observation* obs = p.FindObservation(cams_[o.target]);
         if (bad > options_.drop_outlier_ratio * kPatternSize) {
@@ -392,7 +391,7 @@ class Problem {
     for (int k = 0; k < kPatternSize; ++k) {
       const double r = std::sqrt(weight_g[k]) * residuals[k];
       e += model.Energy(r);
-      n_bad += std::abs(r) > model.inlier_threshold;
+      n_bad += model.IsOutlier(r);
     }
     if (bad) *bad = n_bad;
     return e;

@@ -44,6 +44,7 @@ struct ErrorModel {
 
   double Weight(double r) const;  // Both inline below: the hottest calls of the system.
   double Energy(double r) const;
+  bool IsOutlier(double r) const { return std::abs(r) > inlier_threshold; }
 };
 
 // log(1 + x) for x >= 0 to ~1e-6 relative: log(m 2^e) = e ln 2 + log(m), m in [1, 2), with

@@ -69,6 +69,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       processed > 1 ? 1e-9 * static_cast<double>(dataset.frames[end - 1].t_ns - dataset.frames[options.start].t_ns) *
                           processed / (processed - 1)
                     : 0.0;
+  const double fps = processed / process_s, realtime_factor = recording_s / process_s;
   std::optional<Trajectory> before_global_ba;
   if (options.global_ba) {
     before_global_ba = system.KeyframeTrajectory();
@@ -107,18 +108,17 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   };
   if (options.global_ba) summary.stats["timing_ms"]["global_ba"] = s.global_ba_ms;
   summary.stats["processing_s"] = process_s;
-  summary.stats["frames_per_second"] = processed / process_s;
+  summary.stats["frames_per_second"] = fps;
   if (recording_s > 0.0) {
     summary.stats["recording_s"] = recording_s;
-    summary.stats["realtime_factor"] = recording_s / process_s;
+    summary.stats["realtime_factor"] = realtime_factor;
   }
   char line[512];
   std::snprintf(line, sizeof(line), "%d/%d frames tracked, %d keyframes, %d points, initialised at frame %d, %.1f fps",
-                s.frames_tracked, s.frames, s.keyframes, system.NumMapPoints(), s.initialized_at_frame,
-                processed / process_s);
+                s.frames_tracked, s.frames, s.keyframes, system.NumMapPoints(), s.initialized_at_frame, fps);
   summary.line = line;
   if (recording_s > 0.0) {
-    std::snprintf(line, sizeof(line), " (%.2fx real time)", recording_s / process_s);
+    std::snprintf(line, sizeof(line), " (%.2fx real time)", realtime_factor);
     summary.line += line;
   }
   if (dataset.HasGroundTruth() && keyframes.size() >= 3 && frames.size() >= 3) {

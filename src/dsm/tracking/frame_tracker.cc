@@ -104,7 +104,7 @@ FrameTracker::Accumulated FrameTracker::Evaluate(int l, const ImagePyramid& fram
     const LevelPoint& lp = level.points[i];
     if (residuals) residuals->push_back(static_cast<float>(px.rw));
     acc.energy += px.energy;
-    acc.bad += std::abs(px.rw) > model.inlier_threshold;
+    acc.bad += model.IsOutlier(px.rw);
     ++acc.valid;
     if (!jacobians) continue;
     const double w = lp.grad_weight * model.Weight(px.rw);
