@@ -80,6 +80,12 @@ std::string DescribeDataset(const Dataset& dataset);
 
 // Readers of the single formats (used by OpenDataset).
 Dataset ReadEuroc(const std::filesystem::path& mav0, const GroundTruthConvention& gt = {});
+
+// Writes camera poses `world_from_cam` as the rows of a EuRoC ground-truth CSV under the reading
+// `gt` (the inverse of ReadEuroc's conversion): body rows are world_from_cam * body_from_cam^-1,
+// JPL rows store the conjugate quaternion. Throws InputError when the file cannot be written.
+void WriteEurocGroundTruth(const std::filesystem::path& csv, const Trajectory& world_from_cam,
+                           const SE3d& body_from_cam, const GroundTruthConvention& gt = {});
 Dataset ReadTumMono(const std::filesystem::path& root);
 Dataset ReadTumRgbd(const std::filesystem::path& root);
 Dataset ReadKitti(const std::filesystem::path& root);

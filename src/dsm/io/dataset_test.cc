@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 #include <zip.h>
 
+#include "dsm/io/euroc_copy.h"
 #include "dsm/io/folder_dataset.h"
 #include "dsm/io/image_io.h"
+#include "dsm/io/trajectory_io.h"
 #include "dsm/testing/test_data.h"
 #include "dsm/util/check.h"
 
@@ -26,6 +28,15 @@ Image<uint8_t> Pattern(int w, int h) {
   return img;
 }
 
+// T_BS of the shared EuRoC sequence's sensor.yaml (body_from_cam).
+Eigen::Matrix4d SharedBodyFromCam() {
+  Eigen::Matrix4d T_BS;
+  T_BS << 0.0148655429818, -0.999880929698, 0.00414029679422, -0.0216401454975, 0.999557249008, 0.0149672133247,
+      0.025715529948, -0.064676986768, -0.0257744366974, 0.00375618835797, 0.999660727178, 0.00981073058949, 0, 0,
+      0, 1;
+  return T_BS;
+}
+
 TEST(EurocDataset, SharedSequence) {
   const Dataset d = OpenDataset(SharedDataDir() / "euroc_mh01_shake");
   EXPECT_EQ(d.format, "euroc");
@@ -39,44 +50,62 @@ TEST(EurocDataset, SharedSequence) {
   EXPECT_EQ(d.ground_truth.size(), 380u);
   EXPECT_FALSE(d.photometric.has_value());
 
-  // Camera pose = body pose * T_BS exactly: world_from_body^-1 * world_from_cam is T_BS.
-  Eigen::Matrix4d T_BS;
-  T_BS << 0.0148655429818, -0.999880929698, 0.00414029679422, -0.0216401454975, 0.999557249008, 0.0149672133247,
-      0.025715529948, -0.064676986768, -0.0257744366974, 0.00375618835797, 0.999660727178, 0.00981073058949, 0, 0,
-      0, 1;
-  // First ground-truth row of the shared file (body pose).
-  const SE3d world_from_body(Eigen::Quaterniond(0.4658695444, 0.6949291473, 0.4557504203, -0.303859510766),
-                             Eigen::Vector3d(4.6786366552, -1.8246669943, 0.7559865394));
+  // The documented reading: the rows are body poses (Hamilton), and the camera pose is
+  // world_from_body * T_BS, so world_from_body^-1 * world_from_cam is T_BS exactly.
+  const SE3d world_from_body(Eigen::Quaterniond(0.5456446923, -0.1683940534, -0.8148495803, -0.0996768477),
+                             Eigen::Vector3d(4.7042890000, -1.7647550000, 0.7783510000));
   EXPECT_EQ(d.ground_truth.stamps_ns[0], 1403636583763555584LL);
   const Eigen::Matrix4d body_from_cam = (world_from_body.Inverse() * d.ground_truth.poses[0]).Matrix();
-  EXPECT_LT((body_from_cam - T_BS).norm(), 1e-9);
+  EXPECT_LT((body_from_cam - SharedBodyFromCam()).norm(), 1e-9);
 
   const Image<uint8_t> img = d.LoadImage(0);
   EXPECT_EQ(img.width(), 752);
   EXPECT_EQ(img.height(), 480);
 }
 
-TEST(EurocDataset, GroundTruthConventions) {
-  const fs::path path = SharedDataDir() / "euroc_mh01_shake";
-  // First ground-truth row of the shared file.
-  const Eigen::Quaterniond q(0.4658695444, 0.6949291473, 0.4557504203, -0.303859510766);
-  const Eigen::Vector3d p(4.6786366552, -1.8246669943, 0.7559865394);
-  const Dataset camera = OpenDataset(path, {GtFrame::kCamera, GtQuaternion::kHamilton});
-  EXPECT_LT((camera.ground_truth.poses[0].Rotation() - q.toRotationMatrix()).norm(), 1e-9);
-  EXPECT_LT((camera.ground_truth.poses[0].Translation() - p).norm(), 1e-12);
-  const Dataset jpl = OpenDataset(path, {GtFrame::kCamera, GtQuaternion::kJpl});
-  EXPECT_LT((jpl.ground_truth.poses[0].Rotation() - q.toRotationMatrix().transpose()).norm(), 1e-9);
-  EXPECT_LT((jpl.ground_truth.poses[0].Translation() - p).norm(), 1e-12);
-  const Dataset body_jpl = OpenDataset(path, {GtFrame::kBody, GtQuaternion::kJpl});
-  const SE3d world_from_body(Eigen::Quaterniond(q.conjugate()), p);
-  const Eigen::Matrix4d body_from_cam = (world_from_body.Inverse() * body_jpl.ground_truth.poses[0]).Matrix();
-  EXPECT_NEAR(body_from_cam(0, 3), -0.0216401454975, 1e-9);
-  EXPECT_NEAR(body_from_cam(1, 0), 0.999557249008, 1e-9);
+// Ground truth stored under each reading (camera or body rows, Hamilton or JPL quaternions) and read
+// back with that reading gives the same camera poses; read with the default reading, the copies
+// that are not body-hamilton are far off.
+TEST(EurocDataset, GroundTruthReadingsRoundTrip) {
+  const fs::path shared = SharedDataDir() / "euroc_mh01_shake";
+  const Dataset reference = OpenDataset(shared);
+  for (const GroundTruthConvention& reading : AllGroundTruthConventions()) {
+    const fs::path dir = ScratchDir("euroc_" + reading.Name());
+    testing::WriteEurocCopy(shared, dir, 20, reading);
+    const Dataset copy = OpenDataset(dir, reading);
+    EXPECT_EQ(copy.size(), 20u);
+    ASSERT_EQ(copy.ground_truth.size(), reference.ground_truth.size()) << reading.Name();
+    double worst = 0.0;
+    for (size_t i = 0; i < copy.ground_truth.size(); ++i) {
+      EXPECT_EQ(copy.ground_truth.stamps_ns[i], reference.ground_truth.stamps_ns[i]);
+      worst = std::max(worst, (copy.ground_truth.poses[i].Matrix() - reference.ground_truth.poses[i].Matrix()).norm());
+    }
+    EXPECT_LT(worst, 1e-9) << reading.Name();
+    const Dataset as_documented = OpenDataset(dir);
+    const double off = (as_documented.ground_truth.poses[0].Matrix() - reference.ground_truth.poses[0].Matrix()).norm();
+    if (reading.IsDefault()) {
+      // The body-hamilton copy stores the shared file's own rows.
+      EXPECT_LT(off, 1e-9);
+      const fs::path csv = fs::path("mav0") / "state_groundtruth_estimate0" / "data.csv";
+      const Trajectory original = ReadTrajectory(shared / csv, TrajectoryFormat::kEuroc);
+      const Trajectory stored = ReadTrajectory(dir / csv, TrajectoryFormat::kEuroc);
+      ASSERT_EQ(stored.size(), original.size());
+      for (size_t i = 0; i < stored.size(); i += 37) {
+        EXPECT_LT((stored.poses[i].Matrix() - original.poses[i].Matrix()).norm(), 1e-9);
+      }
+    } else {
+      EXPECT_GT(off, 0.05) << reading.Name();
+    }
+  }
+}
 
+TEST(EurocDataset, GroundTruthConventionNames) {
   EXPECT_EQ((GroundTruthConvention{GtFrame::kCamera, GtQuaternion::kJpl}.Name()), "camera-jpl");
+  EXPECT_EQ(AllGroundTruthConventions().size(), 4u);
   EXPECT_EQ(AllGroundTruthConventions().front().Name(), "body-hamilton");
   EXPECT_THROW(ParseGtFrame("imu", "--gt-frame"), InputError);
   EXPECT_THROW(ParseGtQuaternion("xyzw", "--gt-quaternion"), InputError);
+  EXPECT_EQ(ParseGtQuaternion("jpl", "--gt-quaternion"), GtQuaternion::kJpl);
 }
 
 TEST(FolderDataset, ReadsWhatItWrites) {

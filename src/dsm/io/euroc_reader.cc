@@ -2,6 +2,9 @@
 // EuRoC ASL layout. Ground truth is the body (IMU) frame; camera poses are
 //   world_from_cam = world_from_body * body_from_cam,   body_from_cam = T_BS of sensor.yaml,
 // unless the GroundTruthConvention says the rows are camera poses and/or JPL quaternions.
+#include <cstdio>
+#include <fstream>
+
 #include "dsm/io/calibration_io.h"
 #include "dsm/io/dataset.h"
 #include "dsm/io/trajectory_io.h"
@@ -39,6 +42,26 @@ Dataset ReadEuroc(const fs::path& mav0, const GroundTruthConvention& convention)
     }
   }
   return d;
+}
+
+void WriteEurocGroundTruth(const fs::path& csv, const Trajectory& world_from_cam, const SE3d& body_from_cam,
+                           const GroundTruthConvention& gt) {
+  DSM_CHECK(world_from_cam.HasStamps(), "EuRoC ground truth needs timestamps");
+  std::ofstream out(csv);
+  if (!out) throw InputError(csv.string() + ": cannot write file");
+  out << "#timestamp,p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
+  const SE3d cam_from_body = body_from_cam.Inverse();
+  char buffer[256];
+  for (size_t i = 0; i < world_from_cam.size(); ++i) {
+    const SE3d row = gt.frame == GtFrame::kBody ? world_from_cam.poses[i] * cam_from_body : world_from_cam.poses[i];
+    Eigen::Quaterniond q = row.So3().Quaternion();
+    if (gt.quaternion == GtQuaternion::kJpl) q = q.conjugate();
+    const Eigen::Vector3d& p = row.Translation();
+    std::snprintf(buffer, sizeof(buffer), ",%.12f,%.12f,%.12f,%.12f,%.12f,%.12f,%.12f\n", p.x(), p.y(), p.z(), q.w(),
+                  q.x(), q.y(), q.z());
+    out << world_from_cam.stamps_ns[i] << buffer;
+  }
+  if (!out) throw InputError(csv.string() + ": write failed");
 }
 
 }  // namespace dsm
