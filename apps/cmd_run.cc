@@ -10,7 +10,7 @@ namespace dsm::cli {
 
 Command AddRun(CLI::App& app) {
   struct Args {
-    std::string dataset, out = "dsm_out", mode = "dsm", config, robust;
+    std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1;
     bool quiet = false, global_ba = false;
     GtArgs gt;
@@ -23,6 +23,7 @@ Command AddRun(CLI::App& app) {
   app.add_option("--start", a->start, "First frame index");
   app.add_option("--end", a->end, "One past the last frame index");
   app.add_flag("--quiet", a->quiet, "Print only the summary");
+  app.add_option("--debug", a->debug, "Write per-keyframe diagnostics (table, images, points) into this folder");
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
   // Ablation switches (paper VII-A); they override the config file.
   app.add_option("--nt", a->nt, "Temporal keyframes N_t (window.temporal_keyframes)");
@@ -50,6 +51,7 @@ Command AddRun(CLI::App& app) {
     options.start = a->start;
     options.end = a->end;
     options.quiet = a->quiet;
+    options.debug_dir = a->debug;
     const Dataset dataset = OpenDataset(a->dataset, a->gt.Parse());
     const RunSummary summary = RunDataset(dataset, options, a->out);
     std::printf("%s\n", summary.line.c_str());

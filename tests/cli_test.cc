@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The `dsm` command line as a user runs it: outputs, and clear errors with exit code 2 for bad
 // input (never a crash).
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -177,6 +179,55 @@ TEST(Cli, RunWritesTrajectoriesStatsAndEvaluation) {
   const Trajectory frames = ReadTrajectory(dir / "out" / "frames.tum", TrajectoryFormat::kTum);
   EXPECT_EQ(static_cast<int>(frames.size()), stats["frames_tracked"].get<int>());
   EXPECT_EQ(frames.stamps_ns.front() % 1000, 0);  // the synthetic stamps are whole microseconds
+}
+
+// `--debug DIR` on a rendered sequence with depth: a row per keyframe, a picture and a point table
+// per keyframe, and on a well-tracked sequence neither the motion's scale nor the points' depths
+// drift from the scale the map started with.
+TEST(Cli, RunDebugWritesPerKeyframeDiagnostics) {
+  const fs::path dir = ScratchDir("cli_debug");
+  ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() +
+                   " --frames 50 --width 320 --height 240 --depth").code, 0);
+  const Result r = RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "run").string() + " --quiet --debug " +
+                          (dir / "debug").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream stats_file(dir / "run" / "stats.json");
+  const int keyframes = nlohmann::json::parse(stats_file)["keyframes"];
+  ASSERT_GE(keyframes, 3);
+  std::ifstream table(dir / "debug" / "keyframes.csv");
+  std::string header, line;
+  std::getline(table, header);
+  const auto column = [&](const std::string& name) {
+    std::stringstream h(header);
+    std::string field;
+    for (int i = 0; std::getline(h, field, ','); ++i)
+      if (field == name) return i;
+    return -1;
+  };
+  const int drift = column("scale_drift"), depth_drift = column("depth_scale_drift"), points = column("points");
+  ASSERT_GE(drift, 0);
+  ASSERT_GE(depth_drift, 0);
+  int rows = 0;
+  while (std::getline(table, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    ASSERT_EQ(f.size(), static_cast<size_t>(std::count(header.begin(), header.end(), ',') + 1)) << line;
+    EXPECT_EQ(std::stoi(f[0]), rows);
+    EXPECT_GT(std::stoi(f[points]), 50) << line;
+    if (rows >= 2) {
+      EXPECT_NEAR(std::stod(f[drift]), 1.0, 0.1) << line;
+      EXPECT_NEAR(std::stod(f[depth_drift]), 1.0, 0.05) << line;
+    }
+    char name[64];
+    std::snprintf(name, sizeof(name), "kf_%05d.png", rows);
+    EXPECT_TRUE(fs::exists(dir / "debug" / name)) << name;
+    std::snprintf(name, sizeof(name), "kf_%05d_points.csv", rows);
+    EXPECT_TRUE(fs::exists(dir / "debug" / name)) << name;
+    ++rows;
+  }
+  EXPECT_EQ(rows, keyframes);
+  EXPECT_NE(RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "run2").string() + " --debug /proc/no_such").code, 0);
 }
 
 TEST(Cli, BadInputIsAClearErrorWithExitCode2) {

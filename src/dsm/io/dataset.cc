@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "dsm/io/image_io.h"
 #include "dsm/util/check.h"
 #include "dsm/util/parse.h"
 
@@ -26,6 +27,17 @@ Image<uint8_t> Dataset::LoadImage(size_t i) const {
                      std::to_string(camera.width) + "x" + std::to_string(camera.height));
   }
   return image;
+}
+
+Image<float> Dataset::LoadDepth(size_t i) const {
+  DSM_CHECK(i < frames.size(), "frame index out of range");
+  if (!HasDepth()) throw InputError(root.string() + ": the dataset has no depth");
+  const fs::path path = depth_dir / (fs::path(frames[i].image).stem().string() + ".tiff");
+  if (!fs::exists(path)) throw InputError(path.string() + ": depth file missing");
+  Image<float> depth = ReadGrayFloat(path);
+  if (depth.width() != camera.width || depth.height() != camera.height)
+    throw InputError(path.string() + ": depth size differs from the calibration");
+  return depth;
 }
 
 std::vector<FrameRecord> ReadTimesFile(const fs::path& times, const std::vector<std::string>& names,

@@ -40,14 +40,20 @@ struct Dataset {
   Trajectory ground_truth;          // world_from_cam; empty when the dataset has none.
   std::optional<PhotometricCalibration> photometric;
   std::shared_ptr<const ImageStore> images;
+  // Rendered depth (folder format, `depth/<image stem>.tiff`); empty when the dataset has none.
+  std::filesystem::path depth_dir;
 
   size_t size() const { return frames.size(); }
   bool HasGroundTruth() const { return !ground_truth.empty(); }
   bool HasExposure() const;
+  bool HasDepth() const { return !depth_dir.empty(); }
 
   // Frame i as 8-bit grey; throws InputError naming the file when it is unreadable or its size
   // differs from the calibration.
   Image<uint8_t> LoadImage(size_t i) const;
+  // Depth of frame i in metres along the optical axis (0: nothing hit), in the calibration's
+  // (distorted) pixels; throws InputError naming the file when it is missing or unreadable.
+  Image<float> LoadDepth(size_t i) const;
 };
 
 // How the rows of a EuRoC ground-truth file are read. The ASL layout documents body (IMU) poses with

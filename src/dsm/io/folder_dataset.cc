@@ -49,6 +49,7 @@ Dataset ReadFolder(const fs::path& root) {
   }
   if (fs::exists(root / "groundtruth.tum")) d.ground_truth = ReadTrajectory(root / "groundtruth.tum", TrajectoryFormat::kTum);
   d.photometric = ReadPhotometricCalibration(root);
+  if (fs::is_directory(root / "depth")) d.depth_dir = root / "depth";
   return d;
 }
 

@@ -84,6 +84,13 @@ void WriteGray16(const std::filesystem::path& path, const Image<uint16_t>& image
   Write(path, cv::Mat(image.height(), image.width(), CV_16UC1, const_cast<uint16_t*>(image.data())));
 }
 
+void WriteRgb8(const std::filesystem::path& path, const Image<Rgb8>& image) {
+  cv::Mat bgr;
+  cv::cvtColor(cv::Mat(image.height(), image.width(), CV_8UC3, const_cast<Rgb8*>(image.data())), bgr,
+               cv::COLOR_RGB2BGR);
+  Write(path, bgr);
+}
+
 void WriteFloatTiff(const std::filesystem::path& path, const Image<float>& image) {
   Write(path, cv::Mat(image.height(), image.width(), CV_32FC1, const_cast<float*>(image.data())));
 }

@@ -21,6 +21,11 @@ Image<float> ReadGrayFloat(const std::filesystem::path& path);
 
 void WriteGray8(const std::filesystem::path& path, const Image<uint8_t>& image);
 void WriteGray16(const std::filesystem::path& path, const Image<uint16_t>& image);
+// 8-bit colour.
+struct Rgb8 {
+  uint8_t r = 0, g = 0, b = 0;
+};
+void WriteRgb8(const std::filesystem::path& path, const Image<Rgb8>& image);
 // 32-bit float TIFF (lossless).
 void WriteFloatTiff(const std::filesystem::path& path, const Image<float>& image);
 

@@ -9,6 +9,7 @@
 #include "dsm/eval/metrics.h"
 #include "dsm/geometry/undistorter.h"
 #include "dsm/io/trajectory_io.h"
+#include "dsm/run/debug_writer.h"
 #include "dsm/system/system.h"
 #include "dsm/util/check.h"
 
@@ -49,12 +50,15 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
 
   const Undistorter undistorter(dataset.camera, {dataset.undistort_mode, 1 << (options.system.pyramid_levels - 1)});
   System system(undistorter.output(), options.system);
+  std::optional<DebugWriter> debug;
+  if (!options.debug_dir.empty()) debug.emplace(options.debug_dir, dataset, undistorter);
   const auto process0 = std::chrono::steady_clock::now();
   for (int i = options.start; i < end; ++i) {
     const Image<uint8_t> raw = dataset.LoadImage(i);
     const Image<float> irradiance = dataset.photometric ? dataset.photometric->ToIrradiance(raw) : ToFloat(raw);
     const FrameReport r = system.Process(i, dataset.frames[i].t_ns, undistorter.Apply(irradiance),
                                          dataset.frames[i].exposure_ms);
+    if (debug && r.keyframe) debug->AddKeyframes(system);
     if (!options.quiet && (r.keyframe || r.status == TrackingStatus::kLost)) {
       std::printf("frame %5d  %-12s%s%s\n", i, TrackingStatusName(r.status).c_str(), r.keyframe ? " keyframe" : "",
                   r.reason.empty() ? "" : ("  (" + r.reason + ")").c_str());

@@ -22,6 +22,7 @@ struct RunOptions {
   int end = -1;    // One past the last frame (-1: to the end).
   bool quiet = false;
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
+  std::filesystem::path debug_dir;  // Non-empty: per-keyframe diagnostics there (debug_writer.h).
 };
 
 struct RunSummary {

@@ -96,6 +96,8 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, 
   const int kf = map_.NumKeyframes() - 1;
   frames_.back() = {t_ns, kf, SE3d()};
   MapNewKeyframe(kf);
+  stats_.per_keyframe.back().tracking_rmse = result.rmse;
+  stats_.per_keyframe.back().tracking_inlier_ratio = result.inlier_ratio;
   report.keyframe = true;
   report.mapping_ms = MsSince(t1);
   stats_.mapping_ms.push_back(report.mapping_ms);

@@ -54,6 +54,10 @@ struct SystemStats {
     // Its bundle adjustment: keyframes in the problem (and how many of them fixed), points,
     // observations, LM iterations over all levels.
     int pba_keyframes = 0, pba_fixed_keyframes = 0, pba_points = 0, pba_observations = 0, pba_iterations = 0;
+    int observations_removed = 0;  // Marked outliers after its bundle adjustment.
+    int points_culled = 0;         // Removed after its bundle adjustment.
+    // Tracking of the frame that became this keyframe (0 for the first two).
+    double tracking_rmse = 0.0, tracking_inlier_ratio = 0.0;
   };
   std::vector<KeyframeLog> per_keyframe;
   double global_ba_ms = -1.0;       // -1: not run.
@@ -78,6 +82,11 @@ class System {
   // Bundle adjustment of every keyframe and point of the map (keyframe 0 fixed), once, at the end.
   void RunGlobalBundleAdjustment();
 
+  // The keyframes of the current window: temporal (oldest first) then covisible.
+  std::vector<int> ActiveKeyframes() const;
+  // Live points hosted by the window's keyframes.
+  std::vector<int> ActivePointIds() const;
+
  private:
   struct FrameRecordInternal {
     int64_t t_ns = 0;
@@ -100,12 +109,10 @@ class System {
                       const SE3d& cam_from_world, const AffineBrightness& affine);
   void MapNewKeyframe(int kf);
   void ActivateCandidates(int newest);
-  void CullPoints();
+  int CullPoints();  // Returns how many it removed.
   void SelectCandidates(int kf);
   void SetTrackingReference();
   void SelectCovisible(int newest);
-  std::vector<int> ActiveKeyframes() const;  // Temporal then covisible.
-  std::vector<int> ActivePointIds() const;
 
   PinholeCamera camera_;
   SystemOptions options_;

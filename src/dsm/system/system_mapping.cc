@@ -86,8 +86,9 @@ void System::MapNewKeyframe(int kf) {
   log.pba_points = pba.points;
   log.pba_observations = pba.observations;
   log.pba_iterations = pba.iterations;
+  log.observations_removed = pba.observations_removed;
   stats_.pba_ms.push_back(pba.time_ms);
-  CullPoints();
+  log.points_culled = CullPoints();
   SelectCandidates(kf);
   SetTrackingReference();
 }
@@ -173,8 +174,9 @@ void System::ActivateCandidates(int newest) {
   }
 }
 
-void System::CullPoints() {
+int System::CullPoints() {
   const int num_keyframes = map_.NumKeyframes();
+  int culled = 0;
   for (int pid : ActivePointIds()) {
     Point& p = map_.point(pid);
     const int age = num_keyframes - p.created_at_keyframe;  // Keyframes created since activation.
@@ -191,7 +193,9 @@ void System::CullPoints() {
     } else if (p.NumGoodObservations() + 1 < 3) {
       p.removed = true;  // Mature points need three keyframes (host included).
     }
+    culled += p.removed;
   }
+  return culled;
 }
 
 void System::SelectCandidates(int kf) {

@@ -175,7 +175,8 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
     }
     if (l == 0) {
       std::vector<float> final_residuals;
-      Evaluate(0, frame, T, alpha, beta, model, false, &final_residuals);
+      const Accumulated last = Evaluate(0, frame, T, alpha, beta, model, false, &final_residuals);
+      result.inlier_ratio = last.valid > 0 ? 1.0 - static_cast<double>(last.bad) / last.valid : 0.0;
       double sum_sq = 0.0;
       for (float r : final_residuals) sum_sq += double(r) * r;
       result.rmse = final_residuals.empty() ? 0.0 : std::sqrt(sum_sq / final_residuals.size());
