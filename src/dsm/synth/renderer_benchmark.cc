@@ -8,7 +8,7 @@ namespace dsm::synth {
 namespace {
 
 void BM_RenderFrameOneCore(benchmark::State& state) {
-  static const char* kScenes[] = {"loop", "shake", "forward", "rotation", "exposure"};
+  static const char* kScenes[] = {"loop", "shake", "forward", "rotation", "exposure", "orbit"};
   SynthOptions options;
   options.scene = kScenes[state.range(0)];
   const SynthSequence seq = MakeSequence(options);
@@ -22,7 +22,7 @@ void BM_RenderFrameOneCore(benchmark::State& state) {
   }
   state.SetLabel(options.scene);
 }
-BENCHMARK(BM_RenderFrameOneCore)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RenderFrameOneCore)->DenseRange(0, 5)->Unit(benchmark::kMillisecond);
 
 void BM_EvaluateTexture(benchmark::State& state) {
   const Texture texture{7, 0.5f, 0.3f, 1.0f, 0.5f, 0.3f};

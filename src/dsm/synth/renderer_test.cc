@@ -88,7 +88,8 @@ TEST_P(EveryScene, WarpWithAWrongPoseFails) {
   EXPECT_GT(Warp(seq, 0, 4, Eigen::Vector3d(0.05, -0.05, 0.0)).mean_abs, 5.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Synth, EveryScene, ::testing::Values("loop", "shake", "forward", "rotation", "exposure"));
+INSTANTIATE_TEST_SUITE_P(Synth, EveryScene,
+                         ::testing::Values("loop", "shake", "forward", "rotation", "exposure", "orbit"));
 
 TEST(Renderer, DepthOfAKnownWall) {
   // Camera in the room centre looking at the +x wall (x = 4): the centre pixel sees it at 4 m.

@@ -69,15 +69,36 @@ void Corridor(std::mt19937& rng, Scene* scene) {
   scene->AddCylinder({{15.f, -0.9f}, 0.15f, 0.f, 2.6f, MakeTexture(rng, 0.6f, 0.3f, 0.3f)});
 }
 
+// A 6 x 5 x 3 m room walked around while looking at its middle, as a person films a room: a table
+// with objects in the middle and a floor-to-ceiling pillar between the path and the table sweep
+// through the view with strong parallax against the walls 3-5 m behind them; the walls are
+// weakly textured (plaster, a plain ceiling) apart from one brick and one flagstone wall.
+void OrbitRoom(std::mt19937& rng, Scene* scene) {
+  scene->AddRoom({-3, -2.5f, 0}, {3, 2.5f, 3},
+                 {MakeTexture(rng, 0.5f, 0.3f, 1.0f, 0.45f), MakeTexture(rng, 0.75f, 0.14f, 2.5f, 0.f, 0.75f),
+                  MakeTexture(rng, 0.55f, 0.3f, 0.6f, 0.f, 0.3f), MakeTexture(rng, 0.45f, 0.3f, 1.4f, 0.6f),
+                  MakeTexture(rng, 0.4f, 0.3f, 0.8f, 0.25f), MakeTexture(rng, 0.8f, 0.08f, 3.0f, 0.f, 0.8f)});
+  scene->AddBox({-0.6f, -0.4f, 0.f}, {0.6f, 0.4f, 0.75f}, MakeTexture(rng, 0.6f, 0.3f, 0.5f, 0.f, 0.2f));  // Table.
+  scene->AddBox({-0.35f, -0.2f, 0.75f}, {-0.1f, 0.05f, 1.f}, MakeTexture(rng, 0.35f, 0.4f, 0.15f, 0.08f));
+  scene->AddBox({0.15f, 0.05f, 0.75f}, {0.4f, 0.25f, 0.85f}, MakeTexture(rng, 0.7f, 0.3f, 0.2f));
+  scene->AddCylinder({{0.1f, -0.2f}, 0.07f, 0.75f, 1.0f, MakeTexture(rng, 0.4f, 0.35f, 0.1f)});
+  scene->AddCylinder({{1.2f, 0.55f}, 0.15f, 0.f, 3.f, MakeTexture(rng, 0.6f, 0.25f, 0.4f)});  // Pillar.
+  scene->AddBox({-2.95f, -1.0f, 0.f}, {-2.2f, 1.0f, 0.8f}, MakeTexture(rng, 0.45f, 0.3f, 0.3f, 0.12f));  // Sofa.
+  scene->AddBox({0.4f, 2.05f, 0.f}, {1.8f, 2.45f, 2.0f}, MakeTexture(rng, 0.5f, 0.35f, 0.3f, 0.35f));    // Shelf.
+  scene->AddBox({1.9f, -2.45f, 0.f}, {2.5f, -1.85f, 0.6f}, MakeTexture(rng, 0.55f, 0.35f, 0.25f, 0.2f)); // Crates.
+  scene->AddBox({-2.6f, 1.95f, 0.f}, {-1.6f, 2.45f, 1.1f}, MakeTexture(rng, 0.4f, 0.3f, 0.5f));          // Cabinet.
+  scene->AddCylinder({{-2.3f, -1.9f}, 0.3f, 0.f, 0.9f, MakeTexture(rng, 0.5f, 0.3f, 0.3f)});             // Barrel.
+}
+
 // Smooth there-and-back profile: 0 -> 1 -> 0 over tau in [0, 1] with zero speed at the ends.
 double ThereAndBack(double tau) { return 0.5 - 0.5 * std::cos(kTwoPi * tau); }
 
 }  // namespace
 
-std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure"}; }
+std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure", "orbit"}; }
 
 int DefaultFrames(const std::string& scene) {
-  if (scene == "loop" || scene == "exposure") return 600;
+  if (scene == "loop" || scene == "exposure" || scene == "orbit") return 600;
   if (scene == "forward") return 400;
   return 300;
 }
@@ -85,7 +106,7 @@ int DefaultFrames(const std::string& scene) {
 void SynthOptions::Validate() const {
   const auto names = SceneNames();
   if (std::find(names.begin(), names.end(), scene) == names.end())
-    throw InputError("--scene: unknown scene '" + scene + "' (expected loop, shake, forward, rotation or exposure)");
+    throw InputError("--scene: unknown scene '" + scene + "' (expected loop, shake, forward, rotation, exposure or orbit)");
   if (frames < 0 || frames == 1 || frames > 100000) throw InputError("--frames must be 0 (default) or in 2..100000");
   if (width < 64 || height < 48 || width > 4096 || height > 4096)
     throw InputError("--width/--height must be within 64x48 .. 4096x4096");
@@ -120,6 +141,8 @@ SynthSequence MakeSequence(const SynthOptions& options) {
 
   if (name == "forward") {
     Corridor(rng, &seq.scene);
+  } else if (name == "orbit") {
+    OrbitRoom(rng, &seq.scene);
   } else {
     FurnishedRoom(rng, &seq.scene);
   }
@@ -136,6 +159,17 @@ SynthSequence MakeSequence(const SynthOptions& options) {
       position = Eigen::Vector3d(1.9 * std::cos(a), 1.3 * std::sin(a), 1.5) + 0.03 * jitter.At(t_s);
       const double look = a + 0.35;
       target = position + Eigen::Vector3d(std::cos(look), std::sin(look), -0.12) + 0.04 * look_jitter.At(t_s);
+    } else if (name == "orbit") {
+      // Two laps counter-clockwise around the middle at ~0.75 m/s, looking at it from 1.45 m
+      // height: walking bob (1.8 Hz steps), side sway, hand jitter and yaw swings of +-10 deg.
+      const double a = 2.0 * kTwoPi * tau - 0.5 * M_PI;
+      const Eigen::Vector3d radial(std::cos(a), std::sin(a), 0.0);
+      position = Eigen::Vector3d(2.0 * radial.x(), 1.45 * radial.y(), 1.45) +
+                 Eigen::Vector3d(0, 0, 0.02 * std::sin(kTwoPi * 1.8 * t_s)) +
+                 0.02 * std::sin(kTwoPi * 0.9 * t_s) * radial + 0.015 * jitter.At(t_s);
+      const double sway = 0.17 * std::sin(kTwoPi * 0.27 * t_s + 0.4);
+      const Eigen::Vector3d tangent(-std::sin(a), std::cos(a), 0.0);
+      target = Eigen::Vector3d(0.0, 0.0, 0.95) + 1.6 * sway * tangent + 0.12 * look_jitter.At(t_s);
     } else if (name == "shake") {
       // Side to side and up and down in front of the +y wall, about 0.5 m, looking at it.
       position = Eigen::Vector3d(0.25 * std::sin(kTwoPi * 0.23 * t_s) + 0.05 * jitter.At(t_s).x(),

@@ -7,6 +7,8 @@
 //   forward   along a corridor, then back the same way (reversing, same heading)
 //   rotation  strong rotations with little translation
 //   exposure  like loop, with exposure time, gain and offset changing over time
+//   orbit     around a room's middle looking at it: a pillar and a table pass close to the camera
+//             in front of weakly textured walls (strong parallax, occlusions), two laps
 #pragma once
 
 #include <cstdint>

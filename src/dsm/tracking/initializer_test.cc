@@ -30,7 +30,7 @@ int InitialisesAt(const synth::SynthSequence& seq, int max_frames, InitResult* o
 }
 
 TEST(Initializer, StartsEarlyOnEverySyntheticScene) {
-  for (const char* scene : {"loop", "shake", "forward", "rotation", "exposure"}) {
+  for (const char* scene : {"loop", "shake", "forward", "rotation", "exposure", "orbit"}) {
     synth::SynthOptions options;
     options.scene = scene;
     options.width = 320;
