@@ -12,7 +12,7 @@ namespace dsm::cli {
 namespace {
 
 struct EvalArgs {
-  std::string ref, est, ref_format, est_format, align = "none", rpe_unit = "f", json;
+  std::string ref, est, ref_format, est_format, align = "none", rpe_unit = "f", json, aligned;
   double max_dt = 0.01;
   double rpe_delta = 0.0;
 };
@@ -40,6 +40,7 @@ Command AddEval(CLI::App& app) {
   app.add_option("--rpe-delta", a->rpe_delta, "Compute RPE over this distance (see --rpe-unit)");
   app.add_option("--rpe-unit", a->rpe_unit, "f (frames) | m (metres along the estimate's path)");
   app.add_option("--json", a->json, "Write the results as JSON to this file");
+  app.add_option("--aligned", a->aligned, "Write the estimate after the alignment to this file (TUM; to plot it)");
   return [a] {
     EvalOptions options;
     options.align = ParseAlignment(a->align, "--align");
@@ -54,6 +55,13 @@ Command AddEval(CLI::App& app) {
     PrintStats("APE", result.ape, result.pairs);
     if (options.align == Alignment::kSim3) std::printf("scale %.9f\n", result.ref_from_est.Scale());
     if (result.rpe) PrintStats("RPE", *result.rpe, result.rpe->count);
+    if (!a->aligned.empty()) {
+      // Positions through the similarity, orientations through its rotation.
+      Trajectory aligned = est;
+      for (SE3d& pose : aligned.poses)
+        pose = SE3d(result.ref_from_est.So3() * pose.So3(), result.ref_from_est * pose.Translation());
+      WriteTumTrajectory(a->aligned, aligned);
+    }
     if (!a->json.empty()) {
       std::ofstream out(a->json);
       out << ToJson(result).dump(2) << "\n";
