@@ -5,8 +5,13 @@
 #
 # Usage: ./scripts/ablation.sh [--jobs N] [--sequences "loop forward euroc"] [--configs "dsm sw ..."]
 #                              [--seeds "1 2 3"] [--work DIR]
+#   sequences: the synthetic scenes loop shake forward rotation exposure orbit, and the shared
+#            euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
 #   configs: dsm (defaults), sw (N_c = 0), nc3, nc1, nt3, nt6, levels1, levels3, huber, huber-mad,
-#            move-covisible (covisible poses optimised, as in the paper), global-ba
+#            move-covisible (covisible poses optimised, as in the paper), global-ba,
+#            mixture (error model: the t mixed with a uniform outlier component), no-occlusion (observations
+#            also of points hidden by nearer map points), all-reference (the tracker also uses
+#            points without a verified observation in the keyframe)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -18,8 +23,8 @@ cd "$(dirname "$0")/.."
 
 JOBS=1
 SEEDS="1"
-SEQUENCES="loop shake forward rotation exposure euroc"
-CONFIGS="dsm sw nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba"
+SEQUENCES="loop shake forward rotation exposure orbit euroc room"
+CONFIGS="dsm sw nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -41,6 +46,9 @@ DSM="$(pwd)/${DSM_BUILD_DIR:-build}/bin/dsm"
 DATA="$(pwd)/../shared/data"
 mkdir -p "$WORK"
 printf 'window:\n  optimize_covisible_poses: true\n' > "$WORK/move-covisible.yaml"
+printf 'robust:\n  outlier_mixture: true\n' > "$WORK/mixture.yaml"
+printf 'occlusion:\n  enabled: false\n' > "$WORK/no-occlusion.yaml"
+printf 'tracker:\n  verified_reference: false\n' > "$WORK/all-reference.yaml"
 
 args_for() {
   case "$1" in
@@ -54,7 +62,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible) echo "--config $WORK/move-covisible.yaml" ;;
+    move-covisible | mixture | no-occlusion | all-reference) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac
@@ -64,6 +72,10 @@ args_for() {
 runs_for() {
   if [ "$1" = euroc ]; then
     echo "euroc $DATA/euroc_mh01_shake"
+    return
+  fi
+  if [ "$1" = room ]; then
+    echo "room $DATA/blender_room_s3"
     return
   fi
   for seed in $SEEDS; do

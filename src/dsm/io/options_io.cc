@@ -32,6 +32,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["tracker.iterations"] = Set(&o->tracker.iterations);
   s["tracker.min_usage"] = Set(&o->tracker.min_usage);
   s["tracker.convergence_px"] = Set(&o->tracker.convergence_px);
+  s["tracker.verified_reference"] = Set(&o->tracker.verified_reference);
   s["candidates.target_count"] = Set(&o->candidates.target_count);
   s["candidates.threshold_margin"] = Set(&o->candidates.threshold_margin);
   s["candidates.border"] = Set(&o->candidates.border);
@@ -58,6 +59,10 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["window.min_covisible_ratio"] = Set(&o->window.min_covisible_ratio);
   s["window.max_scale_change"] = Set(&o->window.max_scale_change);
   s["window.optimize_covisible_poses"] = Set(&o->window.optimize_covisible_poses);
+  s["occlusion.enabled"] = Set(&o->occlusion.enabled);
+  s["occlusion.cell_px"] = Set(&o->occlusion.cell_px);
+  s["occlusion.depth_ratio"] = Set(&o->occlusion.depth_ratio);
+  s["occlusion.min_occluders"] = Set(&o->occlusion.min_occluders);
   s["pba.levels"] = Set(&o->pba.levels);
   s["pba.max_iterations"] = Set(&o->pba.max_iterations);
   s["pba.initial_lambda"] = Set(&o->pba.initial_lambda);
@@ -76,6 +81,12 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   };
   s["robust.inlier_quantile"] = [o](const YAML::Node& n) {
     o->pba.robust.inlier_quantile = o->tracker.robust.inlier_quantile = n.as<double>();
+  };
+  s["robust.gross_residual"] = [o](const YAML::Node& n) {
+    o->pba.robust.gross_residual = o->tracker.robust.gross_residual = n.as<double>();
+  };
+  s["robust.outlier_mixture"] = [o](const YAML::Node& n) {
+    o->pba.robust.outlier_mixture = o->tracker.robust.outlier_mixture = n.as<bool>();
   };
   return s;
 }

@@ -23,6 +23,7 @@ CovisibleSelection SelectCovisibleKeyframes(const Map& map, const PinholeCamera&
   // keyframe: parallel and deterministic).
   struct Projected {
     int live_points = 0;
+    std::vector<int> ids;
     std::vector<Eigen::Vector2f> pixels;
     std::vector<bool> same_scale;  // Seen at a similar distance by the host and the newest keyframe.
   };
@@ -37,6 +38,7 @@ CovisibleSelection SelectCovisibleKeyframes(const Map& map, const PinholeCamera&
       float rho;
       if (ProjectPoint(map, camera, p, newest, 0.f, &px, &rho) &&
           ViewAngleDeg(map, camera, p, newest) <= options.max_view_angle_deg) {
+        mine.ids.push_back(pid);
         mine.pixels.push_back(px);
         const float scale = rho / p.idepth;  // Distance in the host over distance in the newest keyframe.
         mine.same_scale.push_back(scale <= options.max_scale_change && scale >= 1.f / options.max_scale_change);
@@ -62,7 +64,10 @@ CovisibleSelection SelectCovisibleKeyframes(const Map& map, const PinholeCamera&
   for (size_t i = 0; i < old.size(); ++i) {
     if (taken[i]) continue;
     for (size_t j = 0; j < projected[i].pixels.size(); ++j)
-      if (projected[i].same_scale[j]) out.other_old_pixels.push_back(projected[i].pixels[j]);
+      if (projected[i].same_scale[j]) {
+        out.other_old_points.push_back(projected[i].ids[j]);
+        out.other_old_pixels.push_back(projected[i].pixels[j]);
+      }
   }
   return out;
 }

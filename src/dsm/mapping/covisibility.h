@@ -25,8 +25,9 @@ struct CovisibleChoice {
 
 struct CovisibleSelection {
   std::vector<CovisibleChoice> chosen;  // Best first.
-  // Newest-keyframe pixels of the points of the old keyframes not chosen that pass the same tests:
-  // the map already covers these places, so new points are not wanted there.
+  // The points of the old keyframes not chosen that pass the same tests (ids and pixels in the
+  // newest keyframe): where they are visible, the map already covers the place.
+  std::vector<int> other_old_points;
   std::vector<Eigen::Vector2f> other_old_pixels;
 };
 

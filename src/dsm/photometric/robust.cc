@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 #include <boost/math/distributions/students_t.hpp>
 
@@ -28,6 +29,134 @@ double Median(std::vector<double> v) {
 double TQuantileThreshold(double nu, double sigma, double quantile) {
   const boost::math::students_t dist(nu);
   return sigma * boost::math::quantile(dist, quantile);
+}
+
+
+// The t alone, fitted to the residuals within min(3 sigma_MAD, R) as a sample of the t truncated
+// there (robust.outlier_mixture: false; the paper's fit). Unstable when most residuals are
+// outliers: see robust.h.
+ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, const RobustOptions& options,
+                         ErrorModel m) {
+  const double cut = std::min(3.0 * mad_sigma, options.gross_residual);
+  std::vector<float> kept;
+  for (double a : abs_r)
+    if (a <= cut) kept.push_back(static_cast<float>(a));
+  if (static_cast<int>(kept.size()) < options.min_residuals) return m;
+  double m2 = 0.0, m4 = 0.0;
+  for (float v : kept) {
+    const double v2 = double(v) * v;
+    m2 += v2;
+    m4 += v2 * v2;
+  }
+  m2 /= kept.size();
+  m4 /= kept.size();
+  const double kurtosis = std::max(m4 / (m2 * m2), 4.0);
+  const double nu0 = std::clamp((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), kMinNu, kMaxNu);
+  // The kept residuals are a sample of the t truncated to |r| <= cut: their likelihood is
+  // normalised by the mass P(|r| <= cut) = 2 F(cut / sigma) - 1, so the cut tails do not bias nu.
+  const double n_kept = static_cast<double>(kept.size());
+  const auto nll = [&](const Eigen::VectorXd& x) {
+    const double nu = std::clamp(std::exp(x(0)), kMinNu, kMaxNu);
+    const double sigma = std::exp(x(1));
+    const double mass = 2.0 * boost::math::cdf(boost::math::students_t(nu), cut / sigma) - 1.0;
+    return StudentTNegLogLikelihood(kept, nu, sigma) + n_kept * std::log(std::max(mass, 1e-300));
+  };
+  NelderMeadOptions nm;
+  nm.tolerance = 1e-2;
+  nm.max_iterations = 200;
+  nm.initial_step = 0.3;
+  const NelderMeadResult fit = NelderMead(nll, Eigen::Vector2d(std::log(nu0), std::log(mad_sigma)), nm);
+  m.nu = std::clamp(std::exp(fit.x(0)), kMinNu, kMaxNu);
+  m.sigma = std::exp(fit.x(1));
+  m.inlier_threshold = TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile);
+  m.outlier_threshold = m.inlier_threshold;
+  return m;
+}
+
+// The t mixed with a uniform outlier component on [0, R] (robust.h).
+ErrorModel FitTMixture(const std::vector<double>& abs_r, double mad_sigma, const RobustOptions& options,
+                       ErrorModel m) {
+  // Starting nu from the kurtosis of the residuals within 3 sigma of the MAD.
+  const double R = options.gross_residual;
+  double m2 = 0.0, m4 = 0.0;
+  int n_core = 0;
+  for (double a : abs_r) {
+    if (a > std::min(3.0 * mad_sigma, R)) continue;
+    m2 += a * a;
+    m4 += a * a * a * a;
+    ++n_core;
+  }
+  if (n_core < options.min_residuals) return m;
+  m2 /= n_core;
+  m4 /= n_core;
+  const double kurtosis = std::max(m4 / (m2 * m2), 4.0);
+  const double nu0 = std::clamp((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), kMinNu, kMaxNu);
+
+  // Histogram of a = |r| on [0, R).
+  constexpr int kBins = 512;
+  const double width = R / kBins;
+  std::array<float, kBins> count{};
+  int n_in = 0;
+  for (double a : abs_r) {
+    if (a >= R) continue;
+    count[std::min(kBins - 1, static_cast<int>(a / width))] += 1.f;
+    ++n_in;
+  }
+  if (n_in < options.min_residuals) return m;
+  std::array<float, kBins> a2{};  // Squared bin centres.
+  for (int j = 0; j < kBins; ++j) a2[j] = static_cast<float>((j + 0.5) * width * (j + 0.5) * width);
+  const double max_sigma = R / 3.0;  // A wider t is the outlier component's job.
+  const auto decode = [&](const Eigen::VectorXd& x, double* nu, double* sigma, double* pi) {
+    *nu = std::clamp(std::exp(x(0)), kMinNu, kMaxNu);
+    *sigma = std::clamp(std::exp(x(1)), 1e-2, max_sigma);
+    *pi = std::clamp(1.0 / (1.0 + std::exp(-x(2))), 1e-3, 1.0);
+  };
+  const auto nll = [&](const Eigen::VectorXd& x) {
+    double nu, sigma, pi;
+    decode(x, &nu, &sigma, &pi);
+    // log(pi * 2 t(a)) = log(2 pi C) - (nu + 1)/2 log(1 + a^2 / (nu sigma^2))
+    const double log_c = std::log(2.0 * pi) + std::lgamma(0.5 * (nu + 1.0)) - std::lgamma(0.5 * nu) -
+                         0.5 * std::log(nu * M_PI) - std::log(sigma);
+    const float outlier = static_cast<float>((1.0 - pi) / R);
+    const float inv = static_cast<float>(1.0 / (nu * sigma * sigma)), e = static_cast<float>(-0.5 * (nu + 1.0));
+    const float lc = static_cast<float>(log_c);
+    double sum = 0.0;
+    for (int j = 0; j < kBins; ++j) {
+      if (count[j] == 0.f) continue;
+      const float density = std::exp(lc + e * FastLog1p(a2[j] * inv)) + outlier;
+      sum += count[j] * std::log(density);
+    }
+    return -sum;
+  };
+  std::vector<double> sorted = abs_r;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 4, sorted.end());
+  const double quartile_sigma = std::max(1e-2, sorted[sorted.size() / 4] / 0.3186);  // P(|N(0,1)| < 0.3186) = 1/4
+  NelderMeadOptions nm;
+  nm.tolerance = 1e-2;
+  nm.max_iterations = 300;
+  nm.initial_step = 0.3;
+  NelderMeadResult best;
+  best.value = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& x0 : {Eigen::Vector3d(std::log(nu0), std::log(mad_sigma), std::log(9.0)),
+                                    Eigen::Vector3d(std::log(5.0), std::log(quartile_sigma), 0.0)}) {
+    const NelderMeadResult fit = NelderMead(nll, x0, nm);
+    if (fit.value < best.value) best = fit;
+  }
+  decode(best.x, &m.nu, &m.sigma, &m.inlier_share);
+  m.inlier_threshold = std::min(R, TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile));
+  // The magnitude a* where both components are equally likely, pi 2 t(a*) = (1 - pi) / R:
+  //   a* = sigma sqrt(nu (exp(2 L / (nu + 1)) - 1)),   L = log(2 pi C R / (1 - pi)),
+  // C = Gamma((nu + 1)/2) / (Gamma(nu/2) sqrt(nu pi) sigma). Beyond it a residual is more likely an
+  // outlier than an inlier.
+  double crossover = R;
+  if (m.inlier_share < 1.0) {
+    const double log_c = std::lgamma(0.5 * (m.nu + 1.0)) - std::lgamma(0.5 * m.nu) - 0.5 * std::log(m.nu * M_PI) -
+                         std::log(m.sigma);
+    const double L = std::log(2.0 * m.inlier_share * R / (1.0 - m.inlier_share)) + log_c;
+    crossover = L > 0.0 ? m.sigma * std::sqrt(m.nu * std::expm1(2.0 * L / (m.nu + 1.0))) : 0.0;
+  }
+  m.outlier_threshold = std::clamp(crossover, m.inlier_threshold, R);
+  return m;
 }
 
 }  // namespace
@@ -53,6 +182,7 @@ void RobustOptions::Validate() const {
   if (!(inlier_quantile > 0.5 && inlier_quantile < 1.0)) throw InputError("robust.inlier_quantile must be in (0.5, 1)");
   if (min_residuals < 10) throw InputError("robust.min_residuals must be at least 10");
   if (max_fit_samples < min_residuals) throw InputError("robust.max_fit_samples must be >= robust.min_residuals");
+  if (!(gross_residual >= 10.0)) throw InputError("robust.gross_residual must be at least 10");
 }
 
 ErrorModel DefaultErrorModel(const RobustOptions& options) {
@@ -61,6 +191,7 @@ ErrorModel DefaultErrorModel(const RobustOptions& options) {
   m.huber_k = options.huber_threshold;
   m.inlier_threshold = options.kind == RobustKind::kStudentT ? TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile)
                                                              : m.huber_k;
+  m.outlier_threshold = m.inlier_threshold;
   return m;
 }
 
@@ -94,42 +225,10 @@ ErrorModel FitErrorModel(const std::vector<float>& residuals, const RobustOption
   if (options.kind == RobustKind::kHuberMad) {
     m.sigma = mad_sigma;
     m.huber_k = 1.345 * mad_sigma;
-    m.inlier_threshold = m.huber_k;
+    m.inlier_threshold = m.outlier_threshold = m.huber_k;
     return m;
   }
-  const double cut = std::min(3.0 * mad_sigma, 60.0);
-  std::vector<float> kept;
-  for (double a : abs_r)
-    if (a <= cut) kept.push_back(static_cast<float>(a));
-  if (static_cast<int>(kept.size()) < options.min_residuals) return m;
-  double m2 = 0.0, m4 = 0.0;
-  for (float v : kept) {
-    const double v2 = double(v) * v;
-    m2 += v2;
-    m4 += v2 * v2;
-  }
-  m2 /= kept.size();
-  m4 /= kept.size();
-  const double kurtosis = std::max(m4 / (m2 * m2), 4.0);
-  const double nu0 = std::clamp((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), kMinNu, kMaxNu);
-  // The kept residuals are a sample of the t truncated to |r| <= cut: their likelihood is
-  // normalised by the mass P(|r| <= cut) = 2 F(cut / sigma) - 1, so the cut tails do not bias nu.
-  const double n_kept = static_cast<double>(kept.size());
-  const auto nll = [&](const Eigen::VectorXd& x) {
-    const double nu = std::clamp(std::exp(x(0)), kMinNu, kMaxNu);
-    const double sigma = std::exp(x(1));
-    const double mass = 2.0 * boost::math::cdf(boost::math::students_t(nu), cut / sigma) - 1.0;
-    return StudentTNegLogLikelihood(kept, nu, sigma) + n_kept * std::log(std::max(mass, 1e-300));
-  };
-  NelderMeadOptions nm;
-  nm.tolerance = 1e-2;
-  nm.max_iterations = 200;
-  nm.initial_step = 0.3;
-  const NelderMeadResult fit = NelderMead(nll, Eigen::Vector2d(std::log(nu0), std::log(mad_sigma)), nm);
-  m.nu = std::clamp(std::exp(fit.x(0)), kMinNu, kMaxNu);
-  m.sigma = std::exp(fit.x(1));
-  m.inlier_threshold = TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile);
-  return m;
+  return options.outlier_mixture ? FitTMixture(abs_r, mad_sigma, options, m) : FitTruncatedT(abs_r, mad_sigma, options, m);
 }
 
 }  // namespace dsm

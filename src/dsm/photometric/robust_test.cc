@@ -40,6 +40,30 @@ TEST(FitErrorModel, FitBeatsTheStartingPoint) {
   EXPECT_LT(StudentTNegLogLikelihood(kept, m.nu, m.sigma), StudentTNegLogLikelihood(kept, 5.0, 7.5));
 }
 
+TEST(FitErrorModel, MixtureSeparatesUniformOutliers) {
+  // 60% t(nu 5, sigma 4) inliers, 40% outliers with |r| uniform on [0, R]: the model's own form.
+  RobustOptions options;
+  options.max_fit_samples = 20000;
+  std::vector<float> r = SampleT(5.0, 4.0, 12000, 5);
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-options.gross_residual, options.gross_residual);
+  for (int i = 0; i < 8000; ++i) r.push_back(static_cast<float>(u(rng)));
+  options.outlier_mixture = true;
+  const ErrorModel mix = FitErrorModel(r, options);
+  EXPECT_NEAR(mix.inlier_share, 0.6, 0.03);
+  EXPECT_NEAR(mix.sigma, 4.0, 0.6);
+  // Beyond the crossover an outlier is the likelier explanation; the t inlier threshold is below it.
+  EXPECT_GE(mix.outlier_threshold, mix.inlier_threshold);
+  EXPECT_LT(mix.outlier_threshold, options.gross_residual);
+  // The t alone, truncated at 3 sigma_MAD, widens a little to take the outliers within the cut in.
+  options.outlier_mixture = false;
+  const ErrorModel alone = FitErrorModel(r, options);
+  EXPECT_GT(alone.sigma, mix.sigma);
+  EXPECT_LT(alone.sigma, 1.25 * 4.0);
+  EXPECT_EQ(alone.outlier_threshold, alone.inlier_threshold);
+  EXPECT_EQ(alone.inlier_share, 1.0);
+}
+
 TEST(ErrorModel, WeightIsDerivativeOverResidual) {
   for (RobustKind kind : {RobustKind::kStudentT, RobustKind::kHuberFixed}) {
     ErrorModel m;

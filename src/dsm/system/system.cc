@@ -94,6 +94,9 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, 
   CreateKeyframe(index, t_ns, std::move(pyramid), exposure, result.frame_from_keyframe * ref.cam_from_world,
                  FrameBrightness(ref, result.alpha, result.beta, exposure));
   const int kf = map_.NumKeyframes() - 1;
+  // Its error model starts as the one fitted to its tracking residuals: it judges which map points
+  // the keyframe sees before the PBA (System::VisiblePoints), which then refits it.
+  if (options_.tracker.robust.kind == options_.pba.robust.kind) map_.keyframe(kf).error_model = result.model;
   frames_.back() = {t_ns, kf, SE3d()};
   MapNewKeyframe(kf);
   stats_.per_keyframe.back().tracking_rmse = result.rmse;

@@ -108,11 +108,17 @@ class System {
   void CreateKeyframe(int index, int64_t t_ns, std::unique_ptr<ImagePyramid> pyramid, double exposure,
                       const SE3d& cam_from_world, const AffineBrightness& affine);
   void MapNewKeyframe(int kf);
-  void ActivateCandidates(int newest);
+  // Candidates activated where none of the `visible` points (seen in `newest`) nor old map points
+  // are near.
+  void ActivateCandidates(int newest, const std::vector<int>& visible);
+  // The points of `ids` that project into `target` and look consistent there (observation_check.h).
+  std::vector<int> VisiblePoints(const std::vector<int>& ids, int target) const;
   int CullPoints();  // Returns how many it removed.
   void SelectCandidates(int kf);
   void SetTrackingReference();
-  void SelectCovisible(int newest);
+  // Covisible keyframes and their points' re-observations in `newest`, except hidden ones.
+  void SelectCovisible(int newest, OcclusionGrid* occlusion);
+  void AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const;
 
   PinholeCamera camera_;
   SystemOptions options_;

@@ -4,9 +4,13 @@
 #include <chrono>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "dsm/mapping/activation.h"
 #include "dsm/mapping/candidate_selector.h"
 #include "dsm/mapping/covisibility.h"
+#include "dsm/mapping/observation_check.h"
+#include "dsm/mapping/occlusion.h"
 #include "dsm/mapping/projection.h"
 #include "dsm/mapping/window.h"
 #include "dsm/optimization/pba.h"
@@ -60,13 +64,17 @@ std::vector<int> System::ActivePointIds() const {
 
 void System::MapNewKeyframe(int kf) {
   stats_.per_keyframe.push_back({map_.keyframe(kf).frame_index, 0, 0, {}});
-  // Observations of the temporal window's points in the new keyframe (the PBA verifies them).
+  // Observations of the temporal window's points in the new keyframe, unless a nearer part of the
+  // map hides them there (the PBA verifies the rest).
+  OcclusionGrid occlusion(camera_.width, camera_.height, options_.occlusion);
+  AddToOcclusionGrid(window_, kf, &occlusion);
   for (int h : window_)
     for (int pid : map_.keyframe(h).points) {
       Point& p = map_.point(pid);
       Eigen::Vector2f px;
       float rho;
-      if (!p.removed && ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho)) p.observations.push_back({kf, false});
+      if (!p.removed && ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho) && !occlusion.IsOccluded(px, rho))
+        p.observations.push_back({kf, false});
     }
   window_.push_back(kf);
   const int drop = SelectKeyframeToDrop(map_, window_, options_.window);
@@ -74,8 +82,8 @@ void System::MapNewKeyframe(int kf) {
     window_.erase(std::find(window_.begin(), window_.end(), drop));
     candidates_.erase(drop);
   }
-  SelectCovisible(kf);
-  ActivateCandidates(kf);
+  SelectCovisible(kf, &occlusion);
+  ActivateCandidates(kf, VisiblePoints(ActivePointIds(), kf));
   // Covisible keyframes bring their points; their poses stay where the older map put them unless
   // asked otherwise (moving them cost accuracy on every synthetic scene).
   const std::vector<int> held = options_.window.optimize_covisible_poses ? std::vector<int>{} : covisible_;
@@ -93,13 +101,31 @@ void System::MapNewKeyframe(int kf) {
   SetTrackingReference();
 }
 
-void System::SelectCovisible(int newest) {
+void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const {
+  for (int h : keyframes)
+    for (int pid : map_.keyframe(h).points) {
+      const Point& p = map_.point(pid);
+      Eigen::Vector2f px;
+      float rho;
+      if (!p.removed && ProjectPoint(map_, camera_, p, target, 0.f, &px, &rho)) grid->Add(px, rho);
+    }
+}
+
+void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
   covisible_.clear();
   if (options_.mode != MapMode::kFull) return;
   DistanceMap distance = ProjectedDistanceMap(map_, camera_, ActivePointIds(), newest);
   SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
   CovisibleSelection selection = SelectCovisibleKeyframes(map_, camera_, window_, options_.window, &distance);
-  old_pixels_ = std::move(selection.other_old_pixels);
+  // Old points cover the newest keyframe's view where they are visible in it.
+  old_pixels_.clear();
+  const std::vector<int> old_visible = VisiblePoints(selection.other_old_points, newest);
+  for (size_t i = 0, j = 0; i < selection.other_old_points.size() && j < old_visible.size(); ++i) {
+    if (selection.other_old_points[i] != old_visible[j]) continue;
+    old_pixels_.push_back(selection.other_old_pixels[i]);
+    ++j;
+  }
+  for (const CovisibleChoice& c : selection.chosen) AddToOcclusionGrid({c.keyframe}, newest, occlusion);
   for (const CovisibleChoice& c : selection.chosen) {
     covisible_.push_back(c.keyframe);
     log.covisible.push_back(c.keyframe);
@@ -109,7 +135,7 @@ void System::SelectCovisible(int newest) {
       Eigen::Vector2f px;
       float rho;
       if (p.removed || p.FindObservation(newest) != nullptr || !ProjectPoint(map_, camera_, p, newest, 4.f, &px, &rho) ||
-          ViewAngleDeg(map_, camera_, p, newest) > options_.window.max_view_angle_deg)
+          ViewAngleDeg(map_, camera_, p, newest) > options_.window.max_view_angle_deg || occlusion->IsOccluded(px, rho))
         continue;
       p.observations.push_back({newest, false});
       ++log.reobservations;
@@ -127,17 +153,38 @@ void System::RunGlobalBundleAdjustment() {
   stats_.global_ba_ms = pba.time_ms;
 }
 
-void System::ActivateCandidates(int newest) {
+std::vector<int> System::VisiblePoints(const std::vector<int>& ids, int target) const {
+  const Keyframe& keyframe = map_.keyframe(target);
+  std::vector<uint8_t> visible(ids.size(), 0);
+  tbb::parallel_for(size_t{0}, ids.size(), [&](size_t i) {
+    const Point& p = map_.point(ids[i]);
+    Eigen::Vector2f px;
+    float rho;
+    visible[i] = p.host == target || (ProjectPoint(map_, camera_, p, target, 0.f, &px, &rho) &&
+                                      LooksConsistent(map_, camera_, p, target, keyframe.error_model,
+                                                      options_.pba.drop_outlier_ratio));
+  });
+  std::vector<int> out;
+  for (size_t i = 0; i < ids.size(); ++i)
+    if (visible[i]) out.push_back(ids[i]);
+  return out;
+}
+
+void System::ActivateCandidates(int newest, const std::vector<int>& visible) {
   const std::vector<int> active = ActivePointIds();
-  DistanceMap distance = ProjectedDistanceMap(map_, camera_, active, newest);
+  // Only points seen in the newest keyframe cover its image: one hidden behind a new occluder
+  // would keep the occluder from getting points of its own.
+  DistanceMap distance = ProjectedDistanceMap(map_, camera_, visible, newest);
   // Places the older map already covers (points of old keyframes outside the window, seen at a
   // similar scale and angle) get no new points: the map is re-used, not duplicated.
   for (const Eigen::Vector2f& px : old_pixels_) distance.Add(px);
   // Keep the window near its target number of points by adapting the spacing; it only shrinks
-  // when the view is not already covered by the older map.
+  // when the newest keyframe's view is not already covered by points it sees (the window's and
+  // the older map's). Points out of view or hidden cover nothing: counting them left the view of
+  // a camera circling past near objects thinly covered (scene `orbit` lost its scale).
   const int target = options_.activation.target_points;
   const int num_active = static_cast<int>(active.size());
-  const int covered = num_active + static_cast<int>(old_pixels_.size());
+  const int covered = static_cast<int>(visible.size() + old_pixels_.size());
   if (covered < 0.8 * target) min_activation_distance_px_ = std::max(2.f, min_activation_distance_px_ - 1.f);
   if (num_active > 1.2 * target) min_activation_distance_px_ += 1.f;
 
@@ -212,9 +259,13 @@ void System::SetTrackingReference() {
   const int newest = window_.back();
   std::vector<ReferencePoint> points;
   for (int pid : ActivePointIds()) {
+    Point& p = map_.point(pid);
+    // Only points the bundle adjustment saw in the newest keyframe (TrackerOptions).
+    const Observation* o = p.FindObservation(newest);
+    if (options_.tracker.verified_reference && p.host != newest && (o == nullptr || o->outlier)) continue;
     Eigen::Vector2f px;
     float rho;
-    if (ProjectPoint(map_, camera_, map_.point(pid), newest, 2.f, &px, &rho)) points.push_back({px, rho});
+    if (ProjectPoint(map_, camera_, p, newest, 2.f, &px, &rho)) points.push_back({px, rho});
   }
   if (newest != reference_) {
     // The new reference is the keyframe made from the last tracked frame.

@@ -185,6 +185,7 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
   result.frame_from_keyframe = T;
   result.alpha = alpha;
   result.beta = beta;
+  result.model = model;
   // Usage and visibility from the point centres at level 0.
   const PinholeCamera& cam = levels_[0].camera;
   const Eigen::Matrix3d R = T.Rotation();

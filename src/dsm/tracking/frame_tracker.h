@@ -35,6 +35,10 @@ struct TrackerOptions {
   // bound at the image centre: |w| f + |v| f mean_idepth), accepted or not: smaller steps are
   // below what the sampled energy resolves, and LM would only raise its damping on them.
   double convergence_px = 0.01;
+  // The reference: the window's points with a verified (inlier) observation in the keyframe, as
+  // the bundle adjustment left them; false: every point that projects into it. A point hidden in
+  // the keyframe would take the intensity of what hides it at its own depth.
+  bool verified_reference = true;
 
   // The t-fit runs at every level of every frame: a smaller sample than the PBA's.
   static RobustOptions TrackerRobustDefaults() {
@@ -59,6 +63,7 @@ struct TrackResult {
   double alpha = 0.0, beta = 0.0; // I_f = e^alpha I_r + beta (relative brightness)
   double rmse = 0.0;              // Of the gradient-weighted residuals at level 0.
   double inlier_ratio = 0.0;      // Share of level-0 pixels within the fitted model's inlier threshold.
+  ErrorModel model;               // Fitted to the level-0 residuals.
   double usage = 0.0;             // Share of reference points whose patch lands in the frame.
   double visibility = 0.0;        // s_u = mean min(rho_kf / rho_frame, 1), 0 out of view (paper VI-B).
   int iterations = 0;

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/mapping/observation_check.h"
+
+#include <cmath>
+
+#include "dsm/photometric/residual.h"
+
+namespace dsm {
+
+bool LooksConsistent(const Map& map, const PinholeCamera& camera, const Point& point, int target,
+                     const ErrorModel& model, double max_bad_ratio) {
+  const Keyframe& host = map.keyframe(point.host);
+  const Keyframe& t = map.keyframe(target);
+  HostPatch patch;
+  if (!SampleHostPatch(host.pyramid, 0, point.pixel, &patch)) return false;
+  const SE3d target_from_host = t.cam_from_world * host.cam_from_world.Inverse();
+  ObservationInput in;
+  in.camera = &camera;
+  in.target = &t.pyramid;
+  in.level = 0;
+  in.R = target_from_host.Rotation().cast<float>();
+  in.t = target_from_host.Translation().cast<float>();
+  in.idepth = point.idepth;
+  in.host_affine = host.affine;
+  in.target_affine = t.affine;
+  in.host_exposure = host.exposure;
+  in.target_exposure = t.exposure;
+  ObservationResiduals res;
+  if (!EvaluateObservation(patch, in, Derivatives::kNone, &res)) return false;
+  int bad = 0;
+  for (int k = 0; k < kPatternSize; ++k) bad += model.IsClearOutlier(std::sqrt(res.weight_g[k]) * res.r[k]);
+  return bad <= max_bad_ratio * kPatternSize;
+}
+
+}  // namespace dsm

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/mapping/observation_check.h"
+
+#include <gtest/gtest.h>
+
+#include "dsm/optimization/pba_world.h"
+
+namespace dsm {
+namespace {
+
+// Share of keyframe 0's points that look like themselves in keyframe `target`.
+double ConsistentShare(const testing::World& w, int target) {
+  const ErrorModel model = DefaultErrorModel(RobustOptions{});
+  int n = 0, consistent = 0;
+  for (int i = 0; i < w.map.NumPoints(); ++i) {
+    const Point& p = w.map.point(i);
+    if (p.host != 0) continue;
+    ++n;
+    consistent += LooksConsistent(w.map, w.seq.camera, p, target, model, 0.3);
+  }
+  return static_cast<double>(consistent) / n;
+}
+
+TEST(LooksConsistent, TruePosesAndDepthsMatchAndAnotherImageDoesNot) {
+  testing::World w;
+  testing::BuildWorld({0, 4, 8}, &w);
+  EXPECT_GT(ConsistentShare(w, 2), 0.9);
+
+  // Keyframe 2 now shows something else where the points are (a mirrored image: what a new
+  // occluder in front of them would do).
+  Keyframe& kf = w.map.keyframe(2);
+  const Image<PixelGrad>& level0 = kf.pyramid.level(0);
+  Image<float> mirrored(level0.width(), level0.height());
+  for (int y = 0; y < level0.height(); ++y)
+    for (int x = 0; x < level0.width(); ++x) mirrored(x, y) = level0(level0.width() - 1 - x, y)[0];
+  kf.pyramid = ImagePyramid(mirrored, kf.pyramid.levels());
+  EXPECT_LT(ConsistentShare(w, 2), 0.3);
+}
+
+TEST(LooksConsistent, PatternLeavingTheImageIsNotConsistent) {
+  testing::World w;
+  testing::BuildWorld({0, 4}, &w);
+  Point p = w.map.point(0);
+  p.pixel = Eigen::Vector2f(0.5f, 0.5f);  // The host pattern cannot be sampled.
+  EXPECT_FALSE(LooksConsistent(w.map, w.seq.camera, p, 1, DefaultErrorModel(RobustOptions{}), 0.3));
+}
+
+}  // namespace
+}  // namespace dsm
