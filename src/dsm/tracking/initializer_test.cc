@@ -70,7 +70,7 @@ TEST(Initializer, RefusesPureRotation) {
 TEST(Initializer, StartsWithinTwentyFramesOnTheSharedEuroc) {
   // Only the start is asserted here: a two-view estimate over a few centimetres of baseline is a
   // starting point, and the photometric bundle adjustment that follows makes the map accurate
-  // (tests/euroc_run_test checks the result against the ground truth).
+  // (tests/shared_run_test checks the result against the ground truth).
   const Dataset d = OpenDataset(testing::SharedDataDir() / "euroc_mh01_shake");
   const Undistorter und(d.camera, {d.undistort_mode, 16});
   const auto load = [&](size_t i) {
