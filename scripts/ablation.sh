@@ -5,7 +5,7 @@
 #
 # Usage: ./scripts/ablation.sh [--jobs N] [--sequences "loop forward euroc"] [--configs "dsm sw ..."]
 #                              [--seeds "1 2 3"] [--work DIR]
-#   sequences: the synthetic scenes loop shake forward rotation exposure orbit, and the shared
+#   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan, and the shared
 #            euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
 #   configs: dsm (defaults), sw (N_c = 0), nc3, nc1, nt3, nt6, levels1, levels3, huber, huber-mad,
 #            move-covisible (covisible poses optimised, as in the paper), global-ba,

@@ -8,7 +8,7 @@ namespace dsm::synth {
 namespace {
 
 void BM_RenderFrameOneCore(benchmark::State& state) {
-  static const char* kScenes[] = {"loop", "shake", "forward", "rotation", "exposure", "orbit"};
+  static const char* kScenes[] = {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan"};
   SynthOptions options;
   options.scene = kScenes[state.range(0)];
   const SynthSequence seq = MakeSequence(options);

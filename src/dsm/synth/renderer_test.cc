@@ -19,9 +19,10 @@ struct WarpError {
 };
 
 // For each pixel of B: back-project with B's depth, project into A, and compare A's bilinear
-// intensity with B's. Pixels occluded in A (A's depth disagrees by > 1%) are skipped. The warp
-// uses B's pose moved by `pose_error` (B itself is rendered at its true pose).
-WarpError Warp(const SynthSequence& seq, size_t a, size_t b, const Eigen::Vector3d& pose_error = Eigen::Vector3d::Zero()) {
+// intensity with B's. Pixels occluded in A (A's depth disagrees by more than `depth_tolerance`)
+// are skipped. The warp uses B's pose moved by `pose_error` (B itself is rendered at its true pose).
+WarpError Warp(const SynthSequence& seq, size_t a, size_t b, const Eigen::Vector3d& pose_error = Eigen::Vector3d::Zero(),
+               double depth_tolerance = 0.01) {
   Image<float> albedo_a, depth_a, albedo_b, depth_b;
   RenderFrame(seq.scene, seq.camera, seq.world_from_cam[a], &albedo_a, &depth_a);
   RenderFrame(seq.scene, seq.camera, seq.world_from_cam[b], &albedo_b, &depth_b);
@@ -46,7 +47,7 @@ WarpError Warp(const SynthSequence& seq, size_t a, size_t b, const Eigen::Vector
       const Eigen::Vector2d px = seq.camera.Project(p_a);
       if (!img_a.InBounds(px.x(), px.y(), 1.0)) continue;
       const float za = depth_a(static_cast<int>(std::lround(px.x())), static_cast<int>(std::lround(px.y())));
-      if (std::abs(za - p_a.z()) > 0.01 * p_a.z()) continue;
+      if (std::abs(za - p_a.z()) > depth_tolerance * p_a.z()) continue;
       const double diff = std::abs(normalise(Bilinear(img_a, px.x(), px.y()), a) - normalise(img_b(u, v), b));
       e.mean_abs += diff;
       within += diff < 8.0;
@@ -83,13 +84,16 @@ TEST_P(EveryScene, WarpingWithTrueDepthAndPosesReproducesTheFrame) {
 }
 
 TEST_P(EveryScene, WarpWithAWrongPoseFails) {
-  // The same check detects a 5 cm error in the pose (a few pixels): the test above can fail.
+  // The same check detects a 5 cm error in the pose (a few pixels): the test above can fail. The
+  // wrong pose moves depths by a few percent too: the occlusion test is loosened to 10%.
   const SynthSequence seq = Sequence();
-  EXPECT_GT(Warp(seq, 0, 4, Eigen::Vector3d(0.05, -0.05, 0.0)).mean_abs, 5.0);
+  const WarpError e = Warp(seq, 0, 4, Eigen::Vector3d(0.05, -0.05, 0.0), 0.1);
+  EXPECT_GT(e.pixels, 5000u);
+  EXPECT_GT(e.mean_abs, 5.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Synth, EveryScene,
-                         ::testing::Values("loop", "shake", "forward", "rotation", "exposure", "orbit"));
+                         ::testing::Values("loop", "shake", "forward", "rotation", "exposure", "orbit", "pan"));
 
 TEST(Renderer, DepthOfAKnownWall) {
   // Camera in the room centre looking at the +x wall (x = 4): the centre pixel sees it at 4 m.

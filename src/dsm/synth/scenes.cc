@@ -95,7 +95,7 @@ double ThereAndBack(double tau) { return 0.5 - 0.5 * std::cos(kTwoPi * tau); }
 
 }  // namespace
 
-std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure", "orbit"}; }
+std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan"}; }
 
 int DefaultFrames(const std::string& scene) {
   if (scene == "loop" || scene == "exposure" || scene == "orbit") return 600;
@@ -106,7 +106,7 @@ int DefaultFrames(const std::string& scene) {
 void SynthOptions::Validate() const {
   const auto names = SceneNames();
   if (std::find(names.begin(), names.end(), scene) == names.end())
-    throw InputError("--scene: unknown scene '" + scene + "' (expected loop, shake, forward, rotation, exposure or orbit)");
+    throw InputError("--scene: unknown scene '" + scene + "' (expected loop, shake, forward, rotation, exposure, orbit or pan)");
   if (frames < 0 || frames == 1 || frames > 100000) throw InputError("--frames must be 0 (default) or in 2..100000");
   if (width < 64 || height < 48 || width > 4096 || height > 4096)
     throw InputError("--width/--height must be within 64x48 .. 4096x4096");
@@ -181,6 +181,16 @@ SynthSequence MakeSequence(const SynthOptions& options) {
       const double x = 0.5 + 12.0 * ThereAndBack(tau);
       position = Eigen::Vector3d(x, 0.15 * std::sin(kTwoPi * 0.2 * t_s), 1.4) + 0.02 * jitter.At(t_s);
       target = position + Eigen::Vector3d(1.0, 0.05 * std::sin(kTwoPi * 0.13 * t_s), -0.05) + 0.03 * look_jitter.At(t_s);
+    } else if (name == "pan") {
+      // Hand-held panning from the first frame: 1.3 m in front of the +y wall, yaw swings of
+      // +-30 deg (0.3 Hz) and a few centimetres of hand motion, so the first 5 s see mostly one
+      // plane under almost pure rotation; then a slow walk back (0.25 m/s) still panning.
+      const double back = 0.25 * std::max(0.0, t_s - 5.0);
+      position = Eigen::Vector3d(0.0, 1.7 - back, 1.5) + 0.03 * jitter.At(t_s);
+      const double yaw = 0.5 * M_PI + 0.52 * std::sin(kTwoPi * 0.3 * t_s);
+      const double pitch = 0.08 + 0.1 * std::sin(kTwoPi * 0.17 * t_s);
+      target = position + Eigen::Vector3d(std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch)) +
+               0.03 * look_jitter.At(t_s);
     } else {  // rotation
       // A small circle (10 cm) with large yaw (+-70 deg) and pitch (+-20 deg) swings.
       const double a = kTwoPi * 0.25 * t_s;

@@ -9,6 +9,8 @@
 //   exposure  like loop, with exposure time, gain and offset changing over time
 //   orbit     around a room's middle looking at it: a pillar and a table pass close to the camera
 //             in front of weakly textured walls (strong parallax, occlusions), two laps
+//   pan       hand-held panning from the first frame, the first 5 s mostly at one wall with
+//             almost no translation (a hard start), then a slow walk back
 #pragma once
 
 #include <cstdint>
