@@ -31,17 +31,16 @@ double TQuantileThreshold(double nu, double sigma, double quantile) {
   return sigma * boost::math::quantile(dist, quantile);
 }
 
-
-// The t alone, fitted to the residuals within min(3 sigma_MAD, R) as a sample of the t truncated
-// there (robust.outlier_mixture: false; the paper's fit). Unstable when most residuals are
-// outliers: see robust.h.
-ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, const RobustOptions& options,
-                         ErrorModel m) {
-  const double cut = std::min(3.0 * mad_sigma, options.gross_residual);
+// The residual magnitudes within `cut` (the core the t describes), and the t's starting nu from
+// their kurtosis k: nu = (4k - 6)/(k - 3), the t's moment relation, with k >= 4 (4 < nu <= 10).
+std::vector<float> CoreResiduals(const std::vector<double>& abs_r, double cut) {
   std::vector<float> kept;
   for (double a : abs_r)
     if (a <= cut) kept.push_back(static_cast<float>(a));
-  if (static_cast<int>(kept.size()) < options.min_residuals) return m;
+  return kept;
+}
+
+double NuFromKurtosis(const std::vector<float>& kept) {
   double m2 = 0.0, m4 = 0.0;
   for (float v : kept) {
     const double v2 = double(v) * v;
@@ -51,7 +50,18 @@ ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, con
   m2 /= kept.size();
   m4 /= kept.size();
   const double kurtosis = std::max(m4 / (m2 * m2), 4.0);
-  const double nu0 = std::clamp((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), kMinNu, kMaxNu);
+  return std::clamp((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), kMinNu, kMaxNu);
+}
+
+// The t alone, fitted to the residuals within min(3 sigma_MAD, R) as a sample of the t truncated
+// there (robust.outlier_mixture: false; the paper's fit). Unstable when most residuals are
+// outliers: see robust.h.
+ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, const RobustOptions& options,
+                         ErrorModel m) {
+  const double cut = std::min(3.0 * mad_sigma, options.gross_residual);
+  const std::vector<float> kept = CoreResiduals(abs_r, cut);
+  if (static_cast<int>(kept.size()) < options.min_residuals) return m;
+  const double nu0 = NuFromKurtosis(kept);
   // The kept residuals are a sample of the t truncated to |r| <= cut: their likelihood is
   // normalised by the mass P(|r| <= cut) = 2 F(cut / sigma) - 1, so the cut tails do not bias nu.
   const double n_kept = static_cast<double>(kept.size());
@@ -78,19 +88,9 @@ ErrorModel FitTMixture(const std::vector<double>& abs_r, double mad_sigma, const
                        ErrorModel m) {
   // Starting nu from the kurtosis of the residuals within 3 sigma of the MAD.
   const double R = options.gross_residual;
-  double m2 = 0.0, m4 = 0.0;
-  int n_core = 0;
-  for (double a : abs_r) {
-    if (a > std::min(3.0 * mad_sigma, R)) continue;
-    m2 += a * a;
-    m4 += a * a * a * a;
-    ++n_core;
-  }
-  if (n_core < options.min_residuals) return m;
-  m2 /= n_core;
-  m4 /= n_core;
-  const double kurtosis = std::max(m4 / (m2 * m2), 4.0);
-  const double nu0 = std::clamp((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), kMinNu, kMaxNu);
+  const std::vector<float> core = CoreResiduals(abs_r, std::min(3.0 * mad_sigma, R));
+  if (static_cast<int>(core.size()) < options.min_residuals) return m;
+  const double nu0 = NuFromKurtosis(core);
 
   // Histogram of a = |r| on [0, R).
   constexpr int kBins = 512;

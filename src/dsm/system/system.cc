@@ -95,7 +95,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, 
                  FrameBrightness(ref, result.alpha, result.beta, exposure));
   const int kf = map_.NumKeyframes() - 1;
   // Its error model starts as the one fitted to its tracking residuals: it judges which map points
-  // the keyframe sees before the PBA (System::VisiblePoints), which then refits it.
+  // the keyframe sees before the PBA (System::SeenIn), which then refits it.
   if (options_.tracker.robust.kind == options_.pba.robust.kind) map_.keyframe(kf).error_model = result.model;
   frames_.back() = {t_ns, kf, SE3d()};
   MapNewKeyframe(kf);

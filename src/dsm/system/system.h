@@ -111,8 +111,9 @@ class System {
   // Candidates activated where none of the `visible` points (seen in `newest`) nor old map points
   // are near.
   void ActivateCandidates(int newest, const std::vector<int>& visible);
-  // The points of `ids` that project into `target` and look consistent there (observation_check.h).
-  std::vector<int> VisiblePoints(const std::vector<int>& ids, int target) const;
+  // Per point of `ids`: 1 when it projects into `target` and looks consistent there
+  // (observation_check.h), or is hosted there.
+  std::vector<uint8_t> SeenIn(const std::vector<int>& ids, int target) const;
   int CullPoints();  // Returns how many it removed.
   void SelectCandidates(int kf);
   void SetTrackingReference();

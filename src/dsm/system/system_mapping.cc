@@ -83,7 +83,12 @@ void System::MapNewKeyframe(int kf) {
     candidates_.erase(drop);
   }
   SelectCovisible(kf, &occlusion);
-  ActivateCandidates(kf, VisiblePoints(ActivePointIds(), kf));
+  const std::vector<int> active = ActivePointIds();
+  const std::vector<uint8_t> seen = SeenIn(active, kf);
+  std::vector<int> visible;
+  for (size_t i = 0; i < active.size(); ++i)
+    if (seen[i]) visible.push_back(active[i]);
+  ActivateCandidates(kf, visible);
   // Covisible keyframes bring their points; their poses stay where the older map put them unless
   // asked otherwise (moving them cost accuracy on every synthetic scene).
   const std::vector<int> held = options_.window.optimize_covisible_poses ? std::vector<int>{} : covisible_;
@@ -119,18 +124,15 @@ void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
   CovisibleSelection selection = SelectCovisibleKeyframes(map_, camera_, window_, options_.window, &distance);
   // Old points cover the newest keyframe's view where they are visible in it.
   old_pixels_.clear();
-  const std::vector<int> old_visible = VisiblePoints(selection.other_old_points, newest);
-  for (size_t i = 0, j = 0; i < selection.other_old_points.size() && j < old_visible.size(); ++i) {
-    if (selection.other_old_points[i] != old_visible[j]) continue;
-    old_pixels_.push_back(selection.other_old_pixels[i]);
-    ++j;
-  }
-  for (const CovisibleChoice& c : selection.chosen) AddToOcclusionGrid({c.keyframe}, newest, occlusion);
-  for (const CovisibleChoice& c : selection.chosen) {
-    covisible_.push_back(c.keyframe);
-    log.covisible.push_back(c.keyframe);
+  const std::vector<uint8_t> old_seen = SeenIn(selection.other_old_points, newest);
+  for (size_t i = 0; i < old_seen.size(); ++i)
+    if (old_seen[i]) old_pixels_.push_back(selection.other_old_pixels[i]);
+  for (const CovisibleChoice& c : selection.chosen) covisible_.push_back(c.keyframe);
+  log.covisible = covisible_;
+  AddToOcclusionGrid(covisible_, newest, occlusion);
+  for (int h : covisible_) {
     // Re-observations: the covisible keyframe's points seen by the new keyframe from a similar angle.
-    for (int pid : map_.keyframe(c.keyframe).points) {
+    for (int pid : map_.keyframe(h).points) {
       Point& p = map_.point(pid);
       Eigen::Vector2f px;
       float rho;
@@ -153,21 +155,18 @@ void System::RunGlobalBundleAdjustment() {
   stats_.global_ba_ms = pba.time_ms;
 }
 
-std::vector<int> System::VisiblePoints(const std::vector<int>& ids, int target) const {
+std::vector<uint8_t> System::SeenIn(const std::vector<int>& ids, int target) const {
   const Keyframe& keyframe = map_.keyframe(target);
-  std::vector<uint8_t> visible(ids.size(), 0);
+  std::vector<uint8_t> seen(ids.size(), 0);
   tbb::parallel_for(size_t{0}, ids.size(), [&](size_t i) {
     const Point& p = map_.point(ids[i]);
     Eigen::Vector2f px;
     float rho;
-    visible[i] = p.host == target || (ProjectPoint(map_, camera_, p, target, 0.f, &px, &rho) &&
-                                      LooksConsistent(map_, camera_, p, target, keyframe.error_model,
-                                                      options_.pba.drop_outlier_ratio));
+    seen[i] = p.host == target || (ProjectPoint(map_, camera_, p, target, 0.f, &px, &rho) &&
+                                   LooksConsistent(map_, camera_, p, target, keyframe.error_model,
+                                                   options_.pba.drop_outlier_ratio));
   });
-  std::vector<int> out;
-  for (size_t i = 0; i < ids.size(); ++i)
-    if (visible[i]) out.push_back(ids[i]);
-  return out;
+  return seen;
 }
 
 void System::ActivateCandidates(int newest, const std::vector<int>& visible) {
