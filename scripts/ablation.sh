@@ -5,13 +5,15 @@
 #
 # Usage: ./scripts/ablation.sh [--jobs N] [--sequences "loop forward euroc"] [--configs "dsm sw ..."]
 #                              [--seeds "1 2 3"] [--work DIR]
-#   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan, and the shared
-#            euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
+#   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan, each also as
+#            <scene>-noisy (rendered with image noise of 6 grey levels instead of 1), and the
+#            shared euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
 #   configs: dsm (defaults), sw (N_c = 0), nc3, nc1, nt3, nt6, levels1, levels3, huber, huber-mad,
 #            move-covisible (covisible poses optimised, as in the paper), global-ba,
 #            mixture (error model: the t mixed with a uniform outlier component), no-occlusion (observations
 #            also of points hidden by nearer map points), all-reference (the tracker also uses
-#            points without a verified observation in the keyframe)
+#            points without a verified observation in the keyframe), no-noise-floor (candidates
+#            also where the gradient is at the image noise's level)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -24,7 +26,7 @@ cd "$(dirname "$0")/.."
 JOBS=1
 SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure orbit euroc room"
-CONFIGS="dsm sw nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference"
+CONFIGS="dsm sw nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -49,6 +51,7 @@ printf 'window:\n  optimize_covisible_poses: true\n' > "$WORK/move-covisible.yam
 printf 'robust:\n  outlier_mixture: true\n' > "$WORK/mixture.yaml"
 printf 'occlusion:\n  enabled: false\n' > "$WORK/no-occlusion.yaml"
 printf 'tracker:\n  verified_reference: false\n' > "$WORK/all-reference.yaml"
+printf 'candidates:\n  noise_factor: 0\n' > "$WORK/no-noise-floor.yaml"
 
 args_for() {
   case "$1" in
@@ -62,7 +65,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | mixture | no-occlusion | all-reference) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac
@@ -78,10 +81,13 @@ runs_for() {
     echo "room $DATA/blender_room_s3"
     return
   fi
+  local scene="$1" noise=1
+  if [[ "$1" == *-noisy ]]; then scene="${1%-noisy}" noise=6; fi
   for seed in $SEEDS; do
     local name="$1"
     [ "$seed" = 1 ] || name="$1_seed$seed"
-    [ -d "$WORK/seq_$name" ] || "$DSM" synth --scene "$1" --seed "$seed" --out "$WORK/seq_$name" >/dev/null
+    [ -d "$WORK/seq_$name" ] ||
+      "$DSM" synth --scene "$scene" --seed "$seed" --noise "$noise" --out "$WORK/seq_$name" >/dev/null
     echo "$name $WORK/seq_$name"
   done
 }

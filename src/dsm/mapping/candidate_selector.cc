@@ -11,6 +11,7 @@ namespace dsm {
 void CandidateSelectorOptions::Validate() const {
   if (target_count < 10 || target_count > 100000) throw InputError("candidates.target_count must be within 10..100000");
   if (!(threshold_margin >= 0)) throw InputError("candidates.threshold_margin must be non-negative");
+  if (!(noise_factor >= 0)) throw InputError("candidates.noise_factor must be non-negative");
   if (border < 2) throw InputError("candidates.border must be at least 2");
 }
 
@@ -18,31 +19,26 @@ namespace {
 
 constexpr int kBlock = 32;
 
-// Per-block thresholds: median gradient + margin, smoothed with the 3 x 3 neighbouring blocks.
-Image<float> BlockThresholds(const Image<PixelGrad>& level0, float margin) {
-  const int bw = (level0.width() + kBlock - 1) / kBlock, bh = (level0.height() + kBlock - 1) / kBlock;
-  Image<float> raw(bw, bh), smooth(bw, bh);
-  std::vector<float> g;
-  for (int by = 0; by < bh; ++by) {
-    for (int bx = 0; bx < bw; ++bx) {
-      g.clear();
-      for (int y = by * kBlock; y < std::min(level0.height(), (by + 1) * kBlock); ++y)
-        for (int x = bx * kBlock; x < std::min(level0.width(), (bx + 1) * kBlock); ++x) {
-          const PixelGrad& p = level0(x, y);
-          g.push_back(std::sqrt(p[1] * p[1] + p[2] * p[2]));
-        }
-      std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
-      raw(bx, by) = g[g.size() / 2] + margin;
-    }
-  }
-  for (int by = 0; by < bh; ++by)
-    for (int bx = 0; bx < bw; ++bx) {
+// |N * I| at (x, y) with the noise kernel N = [1 -2 1; -2 4 -2; 1 -2 1]: N annihilates constant
+// and linear intensity (and most smooth shading), so on a block without strong edges its response
+// is image noise, with standard deviation 6 sigma (sum of N's squared entries: 36).
+float NoiseResponse(const Image<PixelGrad>& l0, int x, int y) {
+  const auto I = [&](int u, int v) { return l0(u, v)[0]; };
+  return std::abs(I(x - 1, y - 1) - 2.f * I(x, y - 1) + I(x + 1, y - 1) - 2.f * I(x - 1, y) + 4.f * I(x, y) -
+                  2.f * I(x + 1, y) + I(x - 1, y + 1) - 2.f * I(x, y + 1) + I(x + 1, y + 1));
+}
+
+// Averages each block's value with its 3 x 3 neighbouring blocks.
+Image<float> SmoothBlocks(const Image<float>& raw) {
+  Image<float> smooth(raw.width(), raw.height());
+  for (int by = 0; by < raw.height(); ++by)
+    for (int bx = 0; bx < raw.width(); ++bx) {
       float sum = 0.f;
       int n = 0;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const int x = bx + dx, y = by + dy;
-          if (x < 0 || y < 0 || x >= bw || y >= bh) continue;
+          if (x < 0 || y < 0 || x >= raw.width() || y >= raw.height()) continue;
           sum += raw(x, y);
           ++n;
         }
@@ -51,7 +47,52 @@ Image<float> BlockThresholds(const Image<PixelGrad>& level0, float margin) {
   return smooth;
 }
 
-std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const Image<float>& thresholds, int step,
+}  // namespace
+
+BlockThresholds ComputeBlockThresholds(const Image<PixelGrad>& level0, const CandidateSelectorOptions& options) {
+  const int w = level0.width(), h = level0.height();
+  const int bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
+  Image<float> select(bw, bh), noise(bw, bh);
+  std::vector<float> g, n;
+  for (int by = 0; by < bh; ++by) {
+    for (int bx = 0; bx < bw; ++bx) {
+      g.clear();
+      n.clear();
+      for (int y = by * kBlock; y < std::min(h, (by + 1) * kBlock); ++y)
+        for (int x = bx * kBlock; x < std::min(w, (bx + 1) * kBlock); ++x) {
+          const PixelGrad& p = level0(x, y);
+          g.push_back(std::sqrt(p[1] * p[1] + p[2] * p[2]));
+          if (x > 0 && y > 0 && x < w - 1 && y < h - 1) n.push_back(NoiseResponse(level0, x, y));
+        }
+      std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
+      select(bx, by) = g[g.size() / 2] + options.threshold_margin;
+      // sigma = median |N * I| / (6 * 0.6745) (the median of a half-normal is 0.6745 sigma).
+      float sigma = 0.f;
+      if (!n.empty()) {
+        std::nth_element(n.begin(), n.begin() + n.size() / 2, n.end());
+        sigma = n[n.size() / 2] / (6.f * 0.6745f);
+      }
+      noise(bx, by) = sigma;
+    }
+  }
+  BlockThresholds t;
+  t.noise_sigma = SmoothBlocks(noise);
+  t.select = SmoothBlocks(select);
+  // Each gradient component (a central difference, (I(x+1) - I(x-1)) / 2) of pure noise has
+  // standard deviation sigma / sqrt(2); its magnitude exceeds k sigma / sqrt(2) with probability
+  // exp(-k^2 / 2) (Rayleigh): 0.03% for k = 4.
+  t.floor = Image<float>(bw, bh);
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      t.floor(bx, by) = options.noise_factor * t.noise_sigma(bx, by) / std::sqrt(2.f);
+      t.select(bx, by) = std::max(t.select(bx, by), t.floor(bx, by));
+    }
+  return t;
+}
+
+namespace {
+
+std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const BlockThresholds& thresholds, int step,
                                           int border, const Image<uint8_t>* mask) {
   std::vector<SelectedPixel> out;
   const Image<PixelGrad>& l0 = image.level(0);
@@ -66,9 +107,11 @@ std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const Image
           if (mask && !(*mask)(x, y)) continue;
           const PixelGrad& p = l0(x, y);
           const float g = std::sqrt(p[1] * p[1] + p[2] * p[2]);
-          const float thr = thresholds(x / kBlock, y / kBlock);
+          const int bx = x / kBlock, by = y / kBlock;
+          const float thr = thresholds.select(bx, by);
           if (g > thr && g > best) best = g, best_px = Eigen::Vector2f(x, y);
-          if (g > 0.5f * thr && g > best_weak) best_weak = g, weak_px = Eigen::Vector2f(x, y);
+          if (g > std::max(0.5f * thr, thresholds.floor(bx, by)) && g > best_weak)
+            best_weak = g, weak_px = Eigen::Vector2f(x, y);
         }
       }
       if (best > 0.f) {
@@ -85,7 +128,7 @@ std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const Image
 
 std::vector<SelectedPixel> SelectCandidates(const ImagePyramid& image, const CandidateSelectorOptions& options,
                                             const Image<uint8_t>* valid_mask) {
-  const Image<float> thresholds = BlockThresholds(image.level(0), options.threshold_margin);
+  const BlockThresholds thresholds = ComputeBlockThresholds(image.level(0), options);
   // Start from the step that would give the target on a fully textured image, then adapt.
   const double area = static_cast<double>(image.width(0)) * image.height(0);
   double step = std::max(2.0, std::sqrt(area / options.target_count));

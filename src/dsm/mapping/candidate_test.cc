@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/mapping/candidate.h"
 
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include "dsm/mapping/candidate_selector.h"
@@ -45,6 +47,50 @@ TEST(CandidateSelector, HitsTheTargetCountWellSpread) {
       for (const auto& s : selected) n += int(s.pixel.x()) / 80 == bx && int(s.pixel.y()) / 80 == by;
       EXPECT_GT(n, 5) << bx << " " << by;
     }
+}
+
+// Left half: smooth shading (no depth information) under Gaussian noise of `sigma`; right half: a
+// sharp texture (a 4-px checker whose squares vary in brightness) under the same noise.
+Image<float> HalfFlatHalfTextured(float sigma, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.f, sigma);
+  std::uniform_real_distribution<float> shade(40.f, 200.f);
+  Image<float> image(320, 240);
+  Image<float> squares(80, 60);
+  for (size_t i = 0; i < squares.size(); ++i) squares.data()[i] = shade(rng);
+  for (int y = 0; y < 240; ++y)
+    for (int x = 0; x < 320; ++x) {
+      const float smooth = 100.f + 0.1f * x + 0.05f * y;
+      image(x, y) = (x < 160 ? smooth : squares(x / 4, y / 4)) + noise(rng);
+    }
+  return image;
+}
+
+TEST(CandidateSelector, EstimatesTheNoiseOfFlatBlocks) {
+  for (const float sigma : {1.f, 3.f, 6.f}) {
+    const ImagePyramid pyramid(HalfFlatHalfTextured(sigma, 7), 4);
+    const BlockThresholds t = ComputeBlockThresholds(pyramid.level(0), CandidateSelectorOptions{});
+    // Block column 2 (x 64..95) and its neighbours lie in the flat half.
+    for (int by = 1; by < t.noise_sigma.height() - 1; ++by) EXPECT_NEAR(t.noise_sigma(2, by), sigma, 0.12 * sigma) << by;
+  }
+}
+
+TEST(CandidateSelector, KeepsOffNoiseOnFlatAreas) {
+  const ImagePyramid pyramid(HalfFlatHalfTextured(6.f, 3), 4);
+  CandidateSelectorOptions options;
+  options.target_count = 600;
+  const auto count_flat = [&](const CandidateSelectorOptions& o) {
+    int flat = 0;
+    for (const auto& s : SelectCandidates(pyramid, o)) flat += s.pixel.x() < 150;
+    return flat;
+  };
+  // Without the noise floor, half the weak cells of the flat half take a noise pixel.
+  CandidateSelectorOptions no_floor = options;
+  no_floor.noise_factor = 0.f;
+  EXPECT_GT(count_flat(no_floor), 150);
+  // With it, only the noise's own 4-sigma tail: P = exp(-8) of ~38 k pixels, ~13.
+  EXPECT_LT(count_flat(options), 30);
+  EXPECT_GT(SelectCandidates(pyramid, options).size(), 0.85 * 600);  // The textured half has them all.
 }
 
 TEST(Candidate, EpipolarSearchFindsTheTrueDepth) {
