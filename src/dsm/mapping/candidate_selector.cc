@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "dsm/util/check.h"
+#include "dsm/util/median.h"
 
 namespace dsm {
 
@@ -64,15 +65,9 @@ BlockThresholds ComputeBlockThresholds(const Image<PixelGrad>& level0, const Can
           g.push_back(std::sqrt(p[1] * p[1] + p[2] * p[2]));
           if (x > 0 && y > 0 && x < w - 1 && y < h - 1) n.push_back(NoiseResponse(level0, x, y));
         }
-      std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
-      select(bx, by) = g[g.size() / 2] + options.threshold_margin;
+      select(bx, by) = Median(g) + options.threshold_margin;
       // sigma = median |N * I| / (6 * 0.6745) (the median of a half-normal is 0.6745 sigma).
-      float sigma = 0.f;
-      if (!n.empty()) {
-        std::nth_element(n.begin(), n.begin() + n.size() / 2, n.end());
-        sigma = n[n.size() / 2] / (6.f * 0.6745f);
-      }
-      noise(bx, by) = sigma;
+      noise(bx, by) = n.empty() ? 0.f : Median(n) / (6.f * 0.6745f);
     }
   }
   BlockThresholds t;

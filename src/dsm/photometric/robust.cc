@@ -11,6 +11,7 @@
 #include <boost/math/distributions/students_t.hpp>
 
 #include "dsm/util/check.h"
+#include "dsm/util/median.h"
 #include "dsm/util/nelder_mead.h"
 
 namespace dsm {
@@ -19,12 +20,6 @@ namespace {
 
 constexpr double kMadToSigma = 1.4826;
 constexpr double kMinNu = 1.0, kMaxNu = 200.0;
-
-double Median(std::vector<double> v) {
-  const size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  return v[mid];
-}
 
 double TQuantileThreshold(double nu, double sigma, double quantile) {
   const boost::math::students_t dist(nu);

@@ -9,6 +9,7 @@
 #include "dsm/io/image_io.h"
 #include "dsm/mapping/projection.h"
 #include "dsm/util/check.h"
+#include "dsm/util/median.h"
 #include "dsm/util/parse.h"
 
 namespace dsm {
@@ -19,11 +20,7 @@ namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return kNan;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+double MedianOrNan(const std::vector<double>& v) { return v.empty() ? kNan : Median(v); }
 
 double Quantile(std::vector<double> v, double q) {
   if (v.empty()) return kNan;
@@ -149,8 +146,8 @@ void DebugWriter::WriteKeyframe(const System& system, int kf) {
   }
   for (const PointRow& r : rows)
     if (std::isfinite(r.true_host_depth)) ratios.push_back(1.0 / r.point->idepth / r.true_host_depth);
-  const double median_depth = Median(depths);
-  const double depth_scale = Median(ratios);
+  const double median_depth = MedianOrNan(depths);
+  const double depth_scale = MedianOrNan(ratios);
   double depth_drift = kNan, bad_share = kNan;
   if (!ratios.empty()) {
     if (start_scale_) depth_drift = depth_scale / *start_scale_;

@@ -108,9 +108,8 @@ class System {
   void CreateKeyframe(int index, int64_t t_ns, std::unique_ptr<ImagePyramid> pyramid, double exposure,
                       const SE3d& cam_from_world, const AffineBrightness& affine);
   void MapNewKeyframe(int kf);
-  // Candidates activated where none of the `visible` points (seen in `newest`) nor old map points
-  // are near.
-  void ActivateCandidates(int newest, const std::vector<int>& visible);
+  // Candidates activated where no active point seen in `newest` (SeenIn) nor old map point is near.
+  void ActivateCandidates(int newest);
   // Per point of `ids`: 1 when it projects into `target` and looks consistent there
   // (observation_check.h), or is hosted there.
   std::vector<uint8_t> SeenIn(const std::vector<int>& ids, int target) const;

@@ -83,12 +83,7 @@ void System::MapNewKeyframe(int kf) {
     candidates_.erase(drop);
   }
   SelectCovisible(kf, &occlusion);
-  const std::vector<int> active = ActivePointIds();
-  const std::vector<uint8_t> seen = SeenIn(active, kf);
-  std::vector<int> visible;
-  for (size_t i = 0; i < active.size(); ++i)
-    if (seen[i]) visible.push_back(active[i]);
-  ActivateCandidates(kf, visible);
+  ActivateCandidates(kf);
   // Covisible keyframes bring their points; their poses stay where the older map put them unless
   // asked otherwise (moving them cost accuracy on every synthetic scene).
   const std::vector<int> held = options_.window.optimize_covisible_poses ? std::vector<int>{} : covisible_;
@@ -169,10 +164,14 @@ std::vector<uint8_t> System::SeenIn(const std::vector<int>& ids, int target) con
   return seen;
 }
 
-void System::ActivateCandidates(int newest, const std::vector<int>& visible) {
+void System::ActivateCandidates(int newest) {
   const std::vector<int> active = ActivePointIds();
   // Only points seen in the newest keyframe cover its image: one hidden behind a new occluder
   // would keep the occluder from getting points of its own.
+  const std::vector<uint8_t> seen = SeenIn(active, newest);
+  std::vector<int> visible;
+  for (size_t i = 0; i < active.size(); ++i)
+    if (seen[i]) visible.push_back(active[i]);
   DistanceMap distance = ProjectedDistanceMap(map_, camera_, visible, newest);
   // Places the older map already covers (points of old keyframes outside the window, seen at a
   // similar scale and angle) get no new points: the map is re-used, not duplicated.

@@ -9,6 +9,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "dsm/util/check.h"
+#include "dsm/util/median.h"
 
 namespace dsm {
 
@@ -30,11 +31,6 @@ Image<uint8_t> ToGray8(const Image<float>& f) {
 
 cv::Mat Wrap(const Image<uint8_t>& img) {
   return cv::Mat(img.height(), img.width(), CV_8UC1, const_cast<uint8_t*>(img.data()));
-}
-
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace
