@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "apps/commands.h"
+#include "dsm/synth/scenes.h"
 #include "dsm/synth/sequence_writer.h"
 
 namespace dsm::cli {
@@ -9,7 +10,7 @@ namespace dsm::cli {
 Command AddSynth(CLI::App& app) {
   auto o = std::make_shared<synth::SynthOptions>();
   auto out = std::make_shared<std::string>();
-  app.add_option("--scene", o->scene, "loop | shake | forward | rotation | exposure | orbit | pan")->required();
+  app.add_option("--scene", o->scene, synth::SceneNameList(" | ", " | "))->required();
   app.add_option("--out", *out, "Output folder (generic folder format)")->required();
   app.add_option("--frames", o->frames, "Number of frames (default: the scene's own length)");
   app.add_option("--seed", o->seed, "Seed of textures and hand-held jitter");

@@ -8,9 +8,8 @@ namespace dsm::synth {
 namespace {
 
 void BM_RenderFrameOneCore(benchmark::State& state) {
-  static const char* kScenes[] = {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan"};
   SynthOptions options;
-  options.scene = kScenes[state.range(0)];
+  options.scene = SceneNames()[state.range(0)];
   const SynthSequence seq = MakeSequence(options);
   SampleNoiseTile(0.f, 0.f, 1.f);  // Builds the shared noise tile before timing.
   Image<float> albedo;
@@ -22,7 +21,7 @@ void BM_RenderFrameOneCore(benchmark::State& state) {
   }
   state.SetLabel(options.scene);
 }
-BENCHMARK(BM_RenderFrameOneCore)->DenseRange(0, 5)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RenderFrameOneCore)->DenseRange(0, static_cast<int>(SceneNames().size()) - 1)->Unit(benchmark::kMillisecond);
 
 void BM_EvaluateTexture(benchmark::State& state) {
   const Texture texture{7, 0.5f, 0.3f, 1.0f, 0.5f, 0.3f};

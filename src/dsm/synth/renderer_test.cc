@@ -93,7 +93,7 @@ TEST_P(EveryScene, WarpWithAWrongPoseFails) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Synth, EveryScene,
-                         ::testing::Values("loop", "shake", "forward", "rotation", "exposure", "orbit", "pan"));
+                         ::testing::ValuesIn(SceneNames()));
 
 TEST(Renderer, DepthOfAKnownWall) {
   // Camera in the room centre looking at the +x wall (x = 4): the centre pixel sees it at 4 m.

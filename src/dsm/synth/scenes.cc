@@ -97,6 +97,13 @@ double ThereAndBack(double tau) { return 0.5 - 0.5 * std::cos(kTwoPi * tau); }
 
 std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan"}; }
 
+std::string SceneNameList(const std::string& separator, const std::string& last) {
+  const std::vector<std::string> names = SceneNames();
+  std::string list = names.front();
+  for (size_t i = 1; i < names.size(); ++i) list += (i + 1 == names.size() ? last : separator) + names[i];
+  return list;
+}
+
 int DefaultFrames(const std::string& scene) {
   if (scene == "loop" || scene == "exposure" || scene == "orbit") return 600;
   if (scene == "forward") return 400;
@@ -106,7 +113,7 @@ int DefaultFrames(const std::string& scene) {
 void SynthOptions::Validate() const {
   const auto names = SceneNames();
   if (std::find(names.begin(), names.end(), scene) == names.end())
-    throw InputError("--scene: unknown scene '" + scene + "' (expected loop, shake, forward, rotation, exposure, orbit or pan)");
+    throw InputError("--scene: unknown scene '" + scene + "' (expected " + SceneNameList(", ", " or ") + ")");
   if (frames < 0 || frames == 1 || frames > 100000) throw InputError("--frames must be 0 (default) or in 2..100000");
   if (width < 64 || height < 48 || width > 4096 || height > 4096)
     throw InputError("--width/--height must be within 64x48 .. 4096x4096");

@@ -39,6 +39,8 @@ struct SynthOptions {
 };
 
 std::vector<std::string> SceneNames();
+// The scene names joined by `separator`, the last two by `last` ("loop, shake, ... or pan").
+std::string SceneNameList(const std::string& separator, const std::string& last);
 int DefaultFrames(const std::string& scene);
 
 // Per-frame photometric parameters: I = gain * (exposure_ms / 10) * 255 * albedo * V + offset.
