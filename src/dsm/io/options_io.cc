@@ -28,6 +28,9 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);
   s["initializer.min_inliers"] = Set(&o->initializer.min_inliers);
   s["initializer.ransac_threshold_px"] = Set(&o->initializer.ransac_threshold_px);
+  s["initializer.track_from_reference"] = Set(&o->initializer.track_from_reference);
+  s["initializer.refine_motion"] = Set(&o->initializer.refine_motion);
+  s["initializer.refine_loss_px"] = Set(&o->initializer.refine_loss_px);
   s["tracker.levels"] = Set(&o->tracker.levels);
   s["tracker.iterations"] = Set(&o->tracker.iterations);
   s["tracker.min_usage"] = Set(&o->tracker.min_usage);

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "dsm/tracking/two_view.h"
 #include "dsm/util/check.h"
 #include "dsm/util/median.h"
 
@@ -19,6 +20,7 @@ void InitializerOptions::Validate() const {
   if (!(max_homography_ratio > 0 && max_homography_ratio <= 1)) throw InputError("initializer.max_homography_ratio must be in (0, 1]");
   if (min_inliers < 8) throw InputError("initializer.min_inliers must be at least 8");
   if (!(ransac_threshold_px > 0)) throw InputError("initializer.ransac_threshold_px must be positive");
+  if (!(refine_loss_px > 0)) throw InputError("initializer.refine_loss_px must be positive");
 }
 
 namespace {
@@ -39,9 +41,10 @@ Initializer::Initializer(const InitializerOptions& options) : options_(options) 
 
 void Initializer::SetReference(const Image<float>& image, const PinholeCamera& camera) {
   camera_ = camera;
-  previous_ = ToGray8(image);
+  reference_ = ToGray8(image);
+  previous_ = reference_;
   std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(Wrap(previous_), corners, options_.max_corners, 0.005, 8.0);
+  cv::goodFeaturesToTrack(Wrap(reference_), corners, options_.max_corners, 0.005, 8.0);
   reference_corners_.clear();
   for (const auto& c : corners) reference_corners_.emplace_back(c.x, c.y);
   current_corners_ = reference_corners_;
@@ -51,10 +54,8 @@ void Initializer::SetReference(const Image<float>& image, const PinholeCamera& c
 
 int Initializer::NumTracks() const { return static_cast<int>(std::count(alive_.begin(), alive_.end(), true)); }
 
-InitResult Initializer::AddFrame(const Image<float>& image) {
-  DSM_CHECK(has_reference_, "initializer needs a reference frame");
-  InitResult result;
-  const Image<uint8_t> gray = ToGray8(image);
+void Initializer::TrackCorners(const Image<uint8_t>& gray) {
+  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
   std::vector<cv::Point2f> prev_pts, next_pts;
   std::vector<int> ids;
   for (size_t i = 0; i < alive_.size(); ++i) {
@@ -62,25 +63,45 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
     prev_pts.emplace_back(current_corners_[i].x(), current_corners_[i].y());
     ids.push_back(static_cast<int>(i));
   }
-  if (!prev_pts.empty()) {
-    std::vector<uchar> status;
-    std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(Wrap(previous_), Wrap(gray), prev_pts, next_pts, status, error, cv::Size(21, 21), 3);
-    // Forward-backward check removes drifting tracks.
-    std::vector<cv::Point2f> back_pts;
-    std::vector<uchar> back_status;
-    cv::calcOpticalFlowPyrLK(Wrap(gray), Wrap(previous_), next_pts, back_pts, back_status, error, cv::Size(21, 21), 3);
-    for (size_t k = 0; k < ids.size(); ++k) {
-      const bool inside = next_pts[k].x >= 0 && next_pts[k].y >= 0 && next_pts[k].x < gray.width() - 1 &&
-                          next_pts[k].y < gray.height() - 1;
-      const bool consistent = back_status[k] && std::hypot(back_pts[k].x - prev_pts[k].x, back_pts[k].y - prev_pts[k].y) < 1.0;
-      if (!status[k] || !inside || !consistent) {
-        alive_[ids[k]] = false;
-      } else {
-        current_corners_[ids[k]] = Eigen::Vector2f(next_pts[k].x, next_pts[k].y);
-      }
-    }
+  if (prev_pts.empty()) return;
+  std::vector<uchar> status;
+  std::vector<float> error;
+  cv::calcOpticalFlowPyrLK(Wrap(previous_), Wrap(gray), prev_pts, next_pts, status, error, cv::Size(21, 21), 3, stop);
+  // Forward-backward check removes drifting tracks.
+  std::vector<cv::Point2f> back_pts;
+  std::vector<uchar> back_status;
+  cv::calcOpticalFlowPyrLK(Wrap(gray), Wrap(previous_), next_pts, back_pts, back_status, error, cv::Size(21, 21), 3, stop);
+  // Each step of the chain adds its own error (a fraction of a pixel) and the chain sums them. So
+  // each corner is then aligned once more from the reference image itself, starting at the chained
+  // position; a corner that lands more than kMaxShiftPx away keeps the chained position.
+  constexpr double kMaxShiftPx = 2.0;
+  std::vector<cv::Point2f> ref_pts, direct_pts = next_pts;
+  std::vector<uchar> direct_status(ids.size(), 0);
+  if (options_.track_from_reference) {
+    for (int id : ids) ref_pts.emplace_back(reference_corners_[id].x(), reference_corners_[id].y());
+    cv::calcOpticalFlowPyrLK(Wrap(reference_), Wrap(gray), ref_pts, direct_pts, direct_status, error, cv::Size(21, 21), 1,
+                             cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 0.001),
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
   }
+  for (size_t k = 0; k < ids.size(); ++k) {
+    const auto inside = [&](const cv::Point2f& p) { return p.x >= 0 && p.y >= 0 && p.x < gray.width() - 1 && p.y < gray.height() - 1; };
+    const bool consistent = back_status[k] && std::hypot(back_pts[k].x - prev_pts[k].x, back_pts[k].y - prev_pts[k].y) < 1.0;
+    if (!status[k] || !inside(next_pts[k]) || !consistent) {
+      alive_[ids[k]] = false;
+      continue;
+    }
+    const bool direct = direct_status[k] && inside(direct_pts[k]) &&
+                        std::hypot(direct_pts[k].x - next_pts[k].x, direct_pts[k].y - next_pts[k].y) < kMaxShiftPx;
+    const cv::Point2f& p = direct ? direct_pts[k] : next_pts[k];
+    current_corners_[ids[k]] = Eigen::Vector2f(p.x, p.y);
+  }
+}
+
+InitResult Initializer::AddFrame(const Image<float>& image) {
+  DSM_CHECK(has_reference_, "initializer needs a reference frame");
+  InitResult result;
+  const Image<uint8_t> gray = ToGray8(image);
+  TrackCorners(gray);
   previous_ = gray;
 
   std::vector<cv::Point2f> ref, cur;
@@ -118,6 +139,20 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
   for (int r = 0; r < 3; ++r) {
     te(r) = t.at<double>(r);
     for (int c = 0; c < 3; ++c) Re(r, c) = R.at<double>(r, c);
+  }
+  if (options_.refine_motion) {
+    TwoViewProblem problem;
+    problem.fx = camera_.fx;
+    problem.fy = camera_.fy;
+    problem.loss_scale_px = options_.refine_loss_px;
+    for (size_t k = 0; k < ref.size(); ++k) {
+      if (!pose_mask.at<uchar>(static_cast<int>(k))) continue;
+      problem.reference.push_back(camera_.Unproject(ref[k].x, ref[k].y).hnormalized());
+      problem.current.push_back(camera_.Unproject(cur[k].x, cur[k].y).hnormalized());
+    }
+    const TwoViewResult refined = RefineTwoView(problem, Re, te);
+    Re = refined.rotation;
+    te = refined.translation;
   }
   const SE3d cur_from_ref(SO3d(Re), te);  // |t| = 1
   result.current_from_reference = cur_from_ref;
