@@ -83,8 +83,8 @@ void Initializer::TrackCorners(const Image<uint8_t>& gray) {
                              cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 0.001),
                              cv::OPTFLOW_USE_INITIAL_FLOW);
   }
+  const auto inside = [&](const cv::Point2f& p) { return p.x >= 0 && p.y >= 0 && p.x < gray.width() - 1 && p.y < gray.height() - 1; };
   for (size_t k = 0; k < ids.size(); ++k) {
-    const auto inside = [&](const cv::Point2f& p) { return p.x >= 0 && p.y >= 0 && p.x < gray.width() - 1 && p.y < gray.height() - 1; };
     const bool consistent = back_status[k] && std::hypot(back_pts[k].x - prev_pts[k].x, back_pts[k].y - prev_pts[k].y) < 1.0;
     if (!status[k] || !inside(next_pts[k]) || !consistent) {
       alive_[ids[k]] = false;

@@ -85,7 +85,7 @@ TwoViewResult RefineTwoView(const TwoViewProblem& pr, const Eigen::Matrix3d& rot
       // p = Exp(w) R x + d t:  dp/dw = -[R x]_x;  dp/d(step k) = d b_k;  dp/dd = t.
       const Eigen::Vector3d rx = s.R * pr.reference[i].homogeneous();
       Eigen::Matrix<double, 2, 5> J_c;
-      J_c.leftCols<3>() = J_p * (Eigen::Matrix3d() << 0, rx.z(), -rx.y(), -rx.z(), 0, rx.x(), rx.y(), -rx.x(), 0).finished();
+      J_c.leftCols<3>() = -J_p * SO3d::Hat(rx);
       J_c.col(3) = J_p * b1 * s.d[i];
       J_c.col(4) = J_p * b2 * s.d[i];
       const Eigen::Vector2d J_d = J_p * s.t;
@@ -109,7 +109,7 @@ TwoViewResult RefineTwoView(const TwoViewProblem& pr, const Eigen::Matrix3d& rot
     }
     const Vec5 dc = -S.ldlt().solve(g);
     State next = s;
-    next.R = SO3<double>::Exp(dc.head<3>()).Matrix() * s.R;
+    next.R = SO3d::Exp(dc.head<3>()).Matrix() * s.R;
     next.t = (s.t + dc(3) * b1 + dc(4) * b2).normalized();
     for (size_t i = 0; i < n; ++i) next.d[i] = std::max(kMinIdepth, s.d[i] - (b_d[i] + h_cd[i].dot(dc)) / damped[i]);
     const double next_cost = Cost(pr, next);
