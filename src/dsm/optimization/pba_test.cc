@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "dsm/optimization/pba_world.h"
+#include "dsm/testing/motion_error.h"
 
 namespace dsm {
 namespace {
@@ -16,7 +17,7 @@ using testing::BuildWorld;
 using testing::Perturb;
 using testing::World;
 
-double RotationErrorDeg(const SE3d& a, const SE3d& b) { return (a.So3() * b.So3().Inverse()).Log().norm() * 180.0 / M_PI; }
+double RotationErrorDeg(const SE3d& a, const SE3d& b) { return testing::RotationErrorDeg(a.So3(), b.So3()); }
 
 TEST(Pba, RecoversPerturbedPosesAndDepths) {
   World w;

@@ -10,6 +10,7 @@
 #include "dsm/geometry/undistorter.h"
 #include "dsm/io/dataset.h"
 #include "dsm/synth/renderer.h"
+#include "dsm/testing/motion_error.h"
 #include "dsm/testing/test_data.h"
 
 namespace dsm {
@@ -27,8 +28,8 @@ struct MotionError {
   double rotation_deg = 0.0;
 };
 MotionError Compare(const SE3d& estimate, const SE3d& truth) {
-  const double c = estimate.Translation().normalized().dot(truth.Translation().normalized());
-  return {std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI, (estimate.So3() * truth.So3().Inverse()).Log().norm() * 180 / M_PI};
+  return {testing::DirectionErrorDeg(estimate.Translation(), truth.Translation()),
+          testing::RotationErrorDeg(estimate.So3(), truth.So3())};
 }
 
 // Frame index at which the initializer succeeds on the scene (-1 if never within `max_frames`).

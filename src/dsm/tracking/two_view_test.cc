@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/tracking/two_view.h"
 
-#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "dsm/lie/so3.h"
+#include "dsm/testing/motion_error.h"
 
 namespace dsm {
 namespace {
@@ -30,7 +30,7 @@ Scene MakeScene(double noise_px, bool outliers, unsigned seed) {
   std::normal_distribution<double> noise(0.0, noise_px);
   Scene s;
   s.problem.fx = s.problem.fy = 450.0;
-  s.rotation = SO3<double>::Exp(Eigen::Vector3d(0.2, -0.9, 0.3) * kDeg).Matrix();
+  s.rotation = SO3d::Exp(Eigen::Vector3d(0.2, -0.9, 0.3) * kDeg).Matrix();
   const Eigen::Vector3d t_metric(0.035, 0.008, 0.015);  // current_from_reference, metres
   s.translation = t_metric.normalized();
   for (int i = 0; i < 300; ++i) {
@@ -46,18 +46,14 @@ Scene MakeScene(double noise_px, bool outliers, unsigned seed) {
   return s;
 }
 
-double DirectionErrorDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) / kDeg;
-}
+using testing::DirectionErrorDeg;
 
-double RotationErrorDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
-  return SO3<double>(Eigen::Matrix3d(a * b.transpose())).Log().norm() / kDeg;
-}
+double RotationErrorDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) { return testing::RotationErrorDeg(SO3d(a), SO3d(b)); }
 
 TEST(TwoView, ExactTracksGiveTheExactMotionFromAFarStart) {
   const Scene s = MakeScene(0.0, false, 1);
   // Start 0.5 deg off in rotation and about 10 deg off in direction.
-  const Eigen::Matrix3d R0 = SO3<double>::Exp(Eigen::Vector3d(0.3, 0.3, -0.2) * kDeg).Matrix() * s.rotation;
+  const Eigen::Matrix3d R0 = SO3d::Exp(Eigen::Vector3d(0.3, 0.3, -0.2) * kDeg).Matrix() * s.rotation;
   const Eigen::Vector3d t0 = (s.translation + Eigen::Vector3d(0.0, 0.12, -0.12)).normalized();
   ASSERT_GT(DirectionErrorDeg(t0, s.translation), 9.0);
   const TwoViewResult r = RefineTwoView(s.problem, R0, t0);
@@ -76,7 +72,7 @@ TEST(TwoView, NoisyTracksWithWrongMatchesStillGiveTheMotion) {
   // must not add to that.
   for (unsigned seed = 1; seed <= 5; ++seed) {
     const Scene s = MakeScene(0.3, true, seed);
-    const Eigen::Matrix3d R0 = SO3<double>::Exp(Eigen::Vector3d(-0.2, 0.4, 0.1) * kDeg).Matrix() * s.rotation;
+    const Eigen::Matrix3d R0 = SO3d::Exp(Eigen::Vector3d(-0.2, 0.4, 0.1) * kDeg).Matrix() * s.rotation;
     const Eigen::Vector3d t0 = (s.translation + Eigen::Vector3d(0.05, -0.1, 0.05)).normalized();
     const TwoViewResult r = RefineTwoView(s.problem, R0, t0);
     EXPECT_LT(r.final_cost, r.initial_cost) << seed;
