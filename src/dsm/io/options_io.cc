@@ -89,6 +89,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["robust.gross_residual"] = [o](const YAML::Node& n) {
     o->pba.robust.gross_residual = o->tracker.robust.gross_residual = n.as<double>();
   };
+  s["robust.min_nu"] = [o](const YAML::Node& n) { o->pba.robust.min_nu = o->tracker.robust.min_nu = n.as<double>(); };
   s["robust.outlier_mixture"] = [o](const YAML::Node& n) {
     o->pba.robust.outlier_mixture = o->tracker.robust.outlier_mixture = n.as<bool>();
   };

@@ -80,6 +80,23 @@ TEST(ErrorModel, WeightIsDerivativeOverResidual) {
   }
 }
 
+TEST(FitErrorModel, MinNuBoundsTheTailsAndTheInlierThreshold) {
+  // Cauchy samples (nu = 1): the free fit follows them to nu near 1 and a threshold of ~6 sigma;
+  // with min_nu = 3 the fit stays at 3 and the threshold at the t(3) quantile (2.35 sigma).
+  RobustOptions options;
+  options.max_fit_samples = 20000;
+  const std::vector<float> r = SampleT(1.0, 3.0, 20000, 7);
+  const ErrorModel free = FitErrorModel(r, options);
+  EXPECT_LT(free.nu, 1.5);
+  EXPECT_GT(free.inlier_threshold, 5.0 * free.sigma);
+  options.min_nu = 3.0;
+  const ErrorModel floored = FitErrorModel(r, options);
+  EXPECT_NEAR(floored.nu, 3.0, 1e-9);
+  EXPECT_NEAR(floored.inlier_threshold / floored.sigma, 2.353, 1e-3);
+  options.min_nu = 0.5;
+  EXPECT_THROW(options.Validate(), std::exception);
+}
+
 TEST(FitErrorModel, HuberVariantsAndSmallSamples) {
   RobustOptions options;
   options.kind = RobustKind::kHuberMad;
