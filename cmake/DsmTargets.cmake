@@ -45,3 +45,17 @@ function(dsm_test name)
   set_tests_properties(${name} PROPERTIES LABELS "${labels}"
     ENVIRONMENT "DSM_SHARED_DATA=${DSM_SHARED_DATA_DIR};DSM_BINARY_DIR=${PROJECT_BINARY_DIR}")
 endfunction()
+
+# dsm_benchmark(<folder>/<name> SOURCES <files...> DEPS <targets...>)
+# A Google Benchmark program <folder>_<name> (not a test: speed is measured, never asserted).
+function(dsm_benchmark name)
+  if(NOT DSM_BUILD_BENCHMARKS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  find_package(benchmark REQUIRED)
+  string(REPLACE "/" "_" target ${name})
+  add_executable(${target} ${ARG_SOURCES})
+  target_link_libraries(${target} PRIVATE ${ARG_DEPS} benchmark::benchmark)
+  dsm_target_flags(${target})
+endfunction()
