@@ -21,6 +21,9 @@ namespace {
 constexpr double kMadToSigma = 1.4826;
 constexpr double kMaxNu = 200.0;
 
+// The degrees of freedom kept within [robust.min_nu, kMaxNu].
+double ClampNu(double nu, const RobustOptions& options) { return std::clamp(nu, options.min_nu, kMaxNu); }
+
 double TQuantileThreshold(double nu, double sigma, double quantile) {
   const boost::math::students_t dist(nu);
   return sigma * boost::math::quantile(dist, quantile);
@@ -35,7 +38,7 @@ std::vector<float> CoreResiduals(const std::vector<double>& abs_r, double cut) {
   return kept;
 }
 
-double NuFromKurtosis(const std::vector<float>& kept, double min_nu) {
+double NuFromKurtosis(const std::vector<float>& kept, const RobustOptions& options) {
   double m2 = 0.0, m4 = 0.0;
   for (float v : kept) {
     const double v2 = double(v) * v;
@@ -45,7 +48,7 @@ double NuFromKurtosis(const std::vector<float>& kept, double min_nu) {
   m2 /= kept.size();
   m4 /= kept.size();
   const double kurtosis = std::max(m4 / (m2 * m2), 4.0);
-  return std::clamp((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), min_nu, kMaxNu);
+  return ClampNu((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), options);
 }
 
 // The t alone, fitted to the residuals within min(3 sigma_MAD, R) as a sample of the t truncated
@@ -56,12 +59,12 @@ ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, con
   const double cut = std::min(3.0 * mad_sigma, options.gross_residual);
   const std::vector<float> kept = CoreResiduals(abs_r, cut);
   if (static_cast<int>(kept.size()) < options.min_residuals) return m;
-  const double nu0 = NuFromKurtosis(kept, options.min_nu);
+  const double nu0 = NuFromKurtosis(kept, options);
   // The kept residuals are a sample of the t truncated to |r| <= cut: their likelihood is
   // normalised by the mass P(|r| <= cut) = 2 F(cut / sigma) - 1, so the cut tails do not bias nu.
   const double n_kept = static_cast<double>(kept.size());
   const auto nll = [&](const Eigen::VectorXd& x) {
-    const double nu = std::clamp(std::exp(x(0)), options.min_nu, kMaxNu);
+    const double nu = ClampNu(std::exp(x(0)), options);
     const double sigma = std::exp(x(1));
     const double mass = 2.0 * boost::math::cdf(boost::math::students_t(nu), cut / sigma) - 1.0;
     return StudentTNegLogLikelihood(kept, nu, sigma) + n_kept * std::log(std::max(mass, 1e-300));
@@ -71,7 +74,7 @@ ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, con
   nm.max_iterations = 200;
   nm.initial_step = 0.3;
   const NelderMeadResult fit = NelderMead(nll, Eigen::Vector2d(std::log(nu0), std::log(mad_sigma)), nm);
-  m.nu = std::clamp(std::exp(fit.x(0)), options.min_nu, kMaxNu);
+  m.nu = ClampNu(std::exp(fit.x(0)), options);
   m.sigma = std::exp(fit.x(1));
   m.inlier_threshold = TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile);
   m.outlier_threshold = m.inlier_threshold;
@@ -85,7 +88,7 @@ ErrorModel FitTMixture(const std::vector<double>& abs_r, double mad_sigma, const
   const double R = options.gross_residual;
   const std::vector<float> core = CoreResiduals(abs_r, std::min(3.0 * mad_sigma, R));
   if (static_cast<int>(core.size()) < options.min_residuals) return m;
-  const double nu0 = NuFromKurtosis(core, options.min_nu);
+  const double nu0 = NuFromKurtosis(core, options);
 
   // Histogram of a = |r| on [0, R).
   constexpr int kBins = 512;
@@ -102,7 +105,7 @@ ErrorModel FitTMixture(const std::vector<double>& abs_r, double mad_sigma, const
   for (int j = 0; j < kBins; ++j) a2[j] = static_cast<float>((j + 0.5) * width * (j + 0.5) * width);
   const double max_sigma = R / 3.0;  // A wider t is the outlier component's job.
   const auto decode = [&](const Eigen::VectorXd& x, double* nu, double* sigma, double* pi) {
-    *nu = std::clamp(std::exp(x(0)), options.min_nu, kMaxNu);
+    *nu = ClampNu(std::exp(x(0)), options);
     *sigma = std::clamp(std::exp(x(1)), 1e-2, max_sigma);
     *pi = std::clamp(1.0 / (1.0 + std::exp(-x(2))), 1e-3, 1.0);
   };
