@@ -11,8 +11,8 @@ namespace dsm::cli {
 Command AddRun(CLI::App& app) {
   struct Args {
     std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
-    int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1;
-    bool quiet = false, global_ba = false;
+    int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
+    bool quiet = false, global_ba = false, sequential = false, realtime = false;
     GtArgs gt;
   };
   auto a = std::make_shared<Args>();
@@ -23,6 +23,15 @@ Command AddRun(CLI::App& app) {
   app.add_option("--start", a->start, "First frame index");
   app.add_option("--end", a->end, "One past the last frame index");
   app.add_flag("--quiet", a->quiet, "Print only the summary");
+  app.add_flag("--sequential", a->sequential,
+               "One thread: every keyframe mapped before the next frame is tracked (deterministic output)");
+  app.add_flag("--realtime", a->realtime,
+               "Two threads, frames released at their timestamps like a live camera; frames that arrive while "
+               "tracking is busy are dropped and counted (default: two threads, frames fed as fast as tracking "
+               "takes them)");
+  app.add_option("--workers", a->workers,
+                 "Threads of the parallel loops (default 0: one per core; 1: loops run on the tracking and "
+                 "mapping threads alone)");
   app.add_option("--debug", a->debug, "Write per-keyframe diagnostics (table, images, points) into this folder");
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
   // Ablation switches (paper VII-A); they override the config file.
@@ -52,6 +61,11 @@ Command AddRun(CLI::App& app) {
     options.end = a->end;
     options.quiet = a->quiet;
     options.debug_dir = a->debug;
+    options.workers = a->workers;
+    if (a->sequential && a->realtime) throw InputError("--sequential and --realtime exclude each other");
+    options.pace = a->sequential ? Pace::kSequential : a->realtime ? Pace::kRealtime : Pace::kFree;
+    // The per-keyframe diagnostics read the map after each keyframe: only sequential allows that.
+    if (!options.debug_dir.empty() && !a->realtime) options.pace = Pace::kSequential;
     const Dataset dataset = OpenDataset(a->dataset, a->gt.Parse());
     const RunSummary summary = RunDataset(dataset, options, a->out);
     std::printf("%s\n", summary.line.c_str());

@@ -21,6 +21,7 @@ std::map<MapMode, double> RunBothModes(const std::string& name, int max_init_fra
   std::map<MapMode, double> ate;
   for (const MapMode mode : {MapMode::kSlidingWindow, MapMode::kFull}) {
     RunOptions options;
+    options.pace = Pace::kSequential;
     options.quiet = true;
     options.system.mode = mode;
     const RunSummary s = RunDataset(dataset, options, testing::ScratchDir("shared_run_" + name));

@@ -51,10 +51,12 @@ struct Keyframe {
   SE3d cam_from_world;
   AffineBrightness affine;
   double exposure = 1.0;  // Exposure time (1 when unknown).
-  ImagePyramid pyramid;
+  // Shared with whoever still reads it (the tracker of the other thread holds its reference's).
+  std::shared_ptr<const ImagePyramid> pyramid;
   ErrorModel error_model;  // Fitted to the residuals of the observations in this keyframe.
   std::vector<int> points; // Ids of the points it hosts.
 
+  const ImagePyramid& Pyramid() const { return *pyramid; }
   SE3d WorldFromCam() const { return cam_from_world.Inverse(); }
   Eigen::Vector3d Centre() const { return WorldFromCam().Translation(); }
 };

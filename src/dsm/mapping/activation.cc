@@ -43,7 +43,7 @@ bool RefineCandidate(const Map& map, const PinholeCamera& camera, int host_id, c
                      const std::vector<int>& targets, const ActivationOptions& options, RefinedPoint* out) {
   const Keyframe& host = map.keyframe(host_id);
   HostPatch patch;
-  if (!SampleHostPatch(host.pyramid, 0, c.pixel, &patch)) return false;
+  if (!SampleHostPatch(host.Pyramid(), 0, c.pixel, &patch)) return false;
   float rho = c.Idepth();
   if (!(rho > 0.f)) return false;
   struct Target {
@@ -62,7 +62,7 @@ bool RefineCandidate(const Map& map, const PinholeCamera& camera, int host_id, c
   const auto evaluate = [&](const Target& t, float idepth, bool jac, ObservationResiduals* res) {
     ObservationInput in;
     in.camera = &camera;
-    in.target = &t.kf->pyramid;
+    in.target = &t.kf->Pyramid();
     in.level = 0;
     in.R = t.R;
     in.t = t.t;

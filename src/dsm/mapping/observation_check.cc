@@ -12,11 +12,11 @@ bool LooksConsistent(const Map& map, const PinholeCamera& camera, const Point& p
   const Keyframe& host = map.keyframe(point.host);
   const Keyframe& t = map.keyframe(target);
   HostPatch patch;
-  if (!SampleHostPatch(host.pyramid, 0, point.pixel, &patch)) return false;
+  if (!SampleHostPatch(host.Pyramid(), 0, point.pixel, &patch)) return false;
   const SE3d target_from_host = t.cam_from_world * host.cam_from_world.Inverse();
   ObservationInput in;
   in.camera = &camera;
-  in.target = &t.pyramid;
+  in.target = &t.Pyramid();
   in.level = 0;
   in.R = target_from_host.Rotation().cast<float>();
   in.t = target_from_host.Translation().cast<float>();

@@ -29,11 +29,11 @@ TEST(LooksConsistent, TruePosesAndDepthsMatchAndAnotherImageDoesNot) {
   // Keyframe 2 now shows something else where the points are (a mirrored image: what a new
   // occluder in front of them would do).
   Keyframe& kf = w.map.keyframe(2);
-  const Image<PixelGrad>& level0 = kf.pyramid.level(0);
+  const Image<PixelGrad>& level0 = kf.Pyramid().level(0);
   Image<float> mirrored(level0.width(), level0.height());
   for (int y = 0; y < level0.height(); ++y)
     for (int x = 0; x < level0.width(); ++x) mirrored(x, y) = level0(level0.width() - 1 - x, y)[0];
-  kf.pyramid = ImagePyramid(mirrored, kf.pyramid.levels());
+  kf.pyramid = std::make_shared<const ImagePyramid>(mirrored, kf.Pyramid().levels());
   EXPECT_LT(ConsistentShare(w, 2), 0.3);
 }
 

@@ -18,6 +18,7 @@ void PbaOptions::Validate() const {
   if (max_iterations < 1) throw InputError("pba.max_iterations must be positive");
   if (!(initial_lambda > 0)) throw InputError("pba.initial_lambda must be positive");
   if (max_outside_observations < 0) throw InputError("pba.max_outside_observations must be non-negative");
+  if (max_outside_keyframes < 0) throw InputError("pba.max_outside_keyframes must be non-negative");
   if (min_camera_observations < 0) throw InputError("pba.min_camera_observations must be non-negative");
   if (!(drop_outlier_ratio > 0 && drop_outlier_ratio <= skip_outlier_ratio && skip_outlier_ratio <= 1))
     throw InputError("pba outlier ratios must satisfy 0 < drop <= skip <= 1");
@@ -85,37 +86,62 @@ class Problem {
       fixed_.push_back(id == 0 || is_held[id]);
     }
     const size_t num_active = cams_.size();
-    for (size_t c = 0; c < num_active; ++c) {
-      for (int pid : map->keyframe(cams_[c]).points) {
-        const Point& p = map->point(pid);
-        if (p.removed) continue;
-        PointState ps;
-        ps.id = pid;
-        ps.host = static_cast<int>(c);
-        // A point of a held keyframe: its observations in keyframes outside the window join two
-        // fixed poses and constrain only its depth; the newest few suffice.
-        int skip = 0;
-        if (is_held[cams_[c]]) {
-          for (const Observation& o : p.observations) skip += !o.outlier && !is_active[o.target];
-          skip -= options.max_outside_observations;  // The oldest ones are left out.
-        }
-        for (const Observation& o : p.observations) {
-          if (o.outlier) continue;
-          if (!is_active[o.target] && skip-- > 0) continue;
-          if (index[o.target] < 0) {  // Observed but not active: in the problem, fixed.
-            index[o.target] = static_cast<int>(cams_.size());
-            cams_.push_back(o.target);
-            fixed_.push_back(true);
+    // The observations that may enter the problem, per point of the active keyframes: f(host
+    // index, point id, observations). A point of a held keyframe: its observations in keyframes
+    // outside the window join two fixed poses and constrain only its depth; the newest few suffice.
+    const auto for_each_point = [&](const auto& f) {
+      std::vector<const Observation*> kept;
+      for (size_t c = 0; c < num_active; ++c) {
+        for (int pid : map->keyframe(cams_[c]).points) {
+          const Point& p = map->point(pid);
+          if (p.removed) continue;
+          int skip = 0;
+          if (is_held[cams_[c]]) {
+            for (const Observation& o : p.observations) skip += !o.outlier && !is_active[o.target];
+            skip -= options.max_outside_observations;  // The oldest ones are left out.
           }
-          ps.obs.push_back({index[o.target]});
-        }
-        if (!ps.obs.empty()) {
-          ps.first_obs = num_obs_;
-          num_obs_ += static_cast<int>(ps.obs.size());
-          points_.push_back(std::move(ps));
+          kept.clear();
+          for (const Observation& o : p.observations)
+            if (!o.outlier && (is_active[o.target] || skip-- <= 0)) kept.push_back(&o);
+          f(c, pid, kept);
         }
       }
+    };
+    // Keyframes outside the window enter fixed, at most `max_outside_keyframes` of them: those
+    // with the most observations (the newer on ties). The rest of the map keeps its observations
+    // but sits this solve out, so the problem does not grow with the map.
+    std::vector<bool> outside_ok(map->NumKeyframes(), true);
+    if (options.max_outside_keyframes > 0) {
+      std::vector<int> count(map->NumKeyframes(), 0);
+      for_each_point([&](size_t, int, const std::vector<const Observation*>& obs) {
+        for (const Observation* o : obs) count[o->target] += !is_active[o->target];
+      });
+      std::vector<int> outside;
+      for (int k = 0; k < map->NumKeyframes(); ++k)
+        if (count[k] > 0) outside.push_back(k);
+      std::stable_sort(outside.begin(), outside.end(),
+                       [&](int a, int b) { return count[a] != count[b] ? count[a] > count[b] : a > b; });
+      for (size_t i = options.max_outside_keyframes; i < outside.size(); ++i) outside_ok[outside[i]] = false;
     }
+    for_each_point([&](size_t c, int pid, const std::vector<const Observation*>& obs) {
+      PointState ps;
+      ps.id = pid;
+      ps.host = static_cast<int>(c);
+      for (const Observation* o : obs) {
+        if (!outside_ok[o->target]) continue;
+        if (index[o->target] < 0) {  // Observed but not active: in the problem, fixed.
+          index[o->target] = static_cast<int>(cams_.size());
+          cams_.push_back(o->target);
+          fixed_.push_back(true);
+        }
+        ps.obs.push_back({index[o->target]});
+      }
+      if (!ps.obs.empty()) {
+        ps.first_obs = num_obs_;
+        num_obs_ += static_cast<int>(ps.obs.size());
+        points_.push_back(std::move(ps));
+      }
+    });
     // A camera tied to the rest by few observations is nearly free (its motion barely changes
     // the energy): it stays fixed in this solve instead of taking a wild step.
     std::vector<int> links(cams_.size(), 0);
@@ -143,7 +169,7 @@ class Problem {
       PointState& ps = points_[i];
       const Point& p = map_->point(ps.id);
       const Eigen::Vector2f px((p.pixel.x() + 0.5f) * scale - 0.5f, (p.pixel.y() + 0.5f) * scale - 0.5f);
-      ps.patch_ok = SampleHostPatch(map_->keyframe(cams_[ps.host]).pyramid, level, px, &ps.patch);
+      ps.patch_ok = SampleHostPatch(map_->keyframe(cams_[ps.host]).Pyramid(), level, px, &ps.patch);
       for (ObsState& o : ps.obs) o.x = o.y = -1;
     });
   }
@@ -326,7 +352,7 @@ class Problem {
   void Prefetch(size_t i) const {
     if (i >= points_.size()) return;
     for (const ObsState& o : points_[i].obs) {
-      if (o.x >= 0) map_->keyframe(cams_[o.target]).pyramid.Prefetch(level_, o.x, o.y, 2);
+      if (o.x >= 0) map_->keyframe(cams_[o.target]).Pyramid().Prefetch(level_, o.x, o.y, 2);
     }
   }
   static void Remember(const ObservationResiduals& res, ObsState* o) {
@@ -371,7 +397,7 @@ class Problem {
     const Keyframe& target = map_->keyframe(cams_[o.target]);
     ObservationInput in;
     in.camera = &level_camera_;
-    in.target = &target.pyramid;
+    in.target = &target.Pyramid();
     in.level = level_;
     in.R = g.R;
     in.t = g.t;

@@ -6,7 +6,8 @@
 //   E = sum_points sum_obs sum_k rho_t( sqrt(w_g) r_k )        (rho_t: the target keyframe's model)
 //
 // Gauge: keyframe 0 (the oldest of the map) never moves; keyframes observed by active points but
-// not active themselves are in the problem and fixed; so is an active keyframe in fewer than
+// not active themselves are in the problem and fixed (at most `max_outside_keyframes` of them,
+// the most observed); so is an active keyframe in fewer than
 // `min_camera_observations` observations (hosted or observed), which the data barely constrain.
 // The error model of every keyframe is refitted at the start of each level and after the last one
 // (stored in the keyframe).
@@ -28,6 +29,8 @@ struct PbaOptions {
   double initial_lambda = 1e-4;
   int min_camera_observations = 50;  // An active keyframe in fewer observations stays fixed.
   int max_outside_observations = 3;  // Per point of a held keyframe: the newest ones outside the window.
+  // Keyframes outside the window in the problem (fixed): the most observed ones; 0: all.
+  int max_outside_keyframes = 0;
   RobustOptions robust;
   double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
   double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.

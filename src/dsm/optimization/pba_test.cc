@@ -129,7 +129,7 @@ struct CeresPixel {
     const SE3d T_th = T_t * T_h.Inverse();
     ObservationInput in;
     in.camera = camera;
-    in.target = &map->keyframe(target).pyramid;
+    in.target = &map->keyframe(target).Pyramid();
     in.R = T_th.Rotation().cast<float>();
     in.t = T_th.Translation().cast<float>();
     in.idepth = static_cast<float>(*rho);
@@ -169,7 +169,7 @@ TEST(Pba, AgreesWithACeresSolveOfTheSameProblem) {
     const Point& p = theirs.map.point(i);
     const Point& q = ours.map.point(i);
     HostPatch patch;
-    if (!SampleHostPatch(theirs.map.keyframe(p.host).pyramid, 0, p.pixel, &patch)) continue;
+    if (!SampleHostPatch(theirs.map.keyframe(p.host).Pyramid(), 0, p.pixel, &patch)) continue;
     for (size_t oi = 0; oi < p.observations.size(); ++oi) {
       if (q.observations[oi].outlier) continue;  // what the PBA dropped
       const Keyframe& h = ours.map.keyframe(p.host);
@@ -177,7 +177,7 @@ TEST(Pba, AgreesWithACeresSolveOfTheSameProblem) {
       const SE3d T_th = t.cam_from_world * h.cam_from_world.Inverse();
       ObservationInput in;
       in.camera = &ours.seq.camera;
-      in.target = &t.pyramid;
+      in.target = &t.Pyramid();
       in.R = T_th.Rotation().cast<float>();
       in.t = T_th.Translation().cast<float>();
       in.idepth = q.idepth;

@@ -21,7 +21,7 @@ void BuildWorld(const std::vector<int>& frames, World* w, int stride, double blu
     auto kf = std::make_unique<Keyframe>();
     kf->frame_index = f;
     kf->cam_from_world = w->seq.world_from_cam[f].Inverse();
-    kf->pyramid = ImagePyramid(r.image, 4);
+    kf->pyramid = std::make_shared<const ImagePyramid>(r.image, 4);
     kf->error_model = DefaultErrorModel(RobustOptions{});
     w->true_cam_from_world.push_back(kf->cam_from_world);
     w->map.AddKeyframe(std::move(kf));
@@ -31,7 +31,7 @@ void BuildWorld(const std::vector<int>& frames, World* w, int stride, double blu
     const Keyframe& kf = w->map.keyframe(host);
     for (int y = 8; y < height - 8; y += stride) {
       for (int x = 8; x < width - 8; x += stride) {
-        const PixelGrad g = kf.pyramid.level(0)(x, y);
+        const PixelGrad g = kf.Pyramid().level(0)(x, y);
         if (g[1] * g[1] + g[2] * g[2] < 100.f || !(depths[host](x, y) > 0.f)) continue;
         Point p;
         p.host = host;

@@ -18,6 +18,14 @@ namespace dsm {
 
 namespace {
 
+// log Gamma(x) without std::lgamma's write to the global `signgam` (a data race when the tracking
+// and mapping threads both fit error models).
+double LogGamma(double x) {
+  int sign = 0;
+  return lgamma_r(x, &sign);
+}
+
+
 constexpr double kMadToSigma = 1.4826;
 constexpr double kMaxNu = 200.0;
 
@@ -113,7 +121,7 @@ ErrorModel FitTMixture(const std::vector<double>& abs_r, double mad_sigma, const
     double nu, sigma, pi;
     decode(x, &nu, &sigma, &pi);
     // log(pi * 2 t(a)) = log(2 pi C) - (nu + 1)/2 log(1 + a^2 / (nu sigma^2))
-    const double log_c = std::log(2.0 * pi) + std::lgamma(0.5 * (nu + 1.0)) - std::lgamma(0.5 * nu) -
+    const double log_c = std::log(2.0 * pi) + LogGamma(0.5 * (nu + 1.0)) - LogGamma(0.5 * nu) -
                          0.5 * std::log(nu * M_PI) - std::log(sigma);
     const float outlier = static_cast<float>((1.0 - pi) / R);
     const float inv = static_cast<float>(1.0 / (nu * sigma * sigma)), e = static_cast<float>(-0.5 * (nu + 1.0));
@@ -148,7 +156,7 @@ ErrorModel FitTMixture(const std::vector<double>& abs_r, double mad_sigma, const
   // outlier than an inlier.
   double crossover = R;
   if (m.inlier_share < 1.0) {
-    const double log_c = std::lgamma(0.5 * (m.nu + 1.0)) - std::lgamma(0.5 * m.nu) - 0.5 * std::log(m.nu * M_PI) -
+    const double log_c = LogGamma(0.5 * (m.nu + 1.0)) - LogGamma(0.5 * m.nu) - 0.5 * std::log(m.nu * M_PI) -
                          std::log(m.sigma);
     const double L = std::log(2.0 * m.inlier_share * R / (1.0 - m.inlier_share)) + log_c;
     crossover = L > 0.0 ? m.sigma * std::sqrt(m.nu * std::expm1(2.0 * L / (m.nu + 1.0))) : 0.0;
@@ -196,7 +204,7 @@ ErrorModel DefaultErrorModel(const RobustOptions& options) {
 
 double StudentTNegLogLikelihood(const std::vector<float>& r, double nu, double sigma) {
   const double n = static_cast<double>(r.size());
-  const double log_norm = std::lgamma(0.5 * (nu + 1.0)) - std::lgamma(0.5 * nu) - 0.5 * std::log(nu * M_PI) - std::log(sigma);
+  const double log_norm = LogGamma(0.5 * (nu + 1.0)) - LogGamma(0.5 * nu) - 0.5 * std::log(nu * M_PI) - std::log(sigma);
   const float inv = static_cast<float>(1.0 / (nu * sigma * sigma));
   // Eight independent float partial sums of at most a few thousand terms each (vectorised),
   // added in double.

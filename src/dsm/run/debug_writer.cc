@@ -191,7 +191,7 @@ void DebugWriter::WriteKeyframe(const System& system, int kf) {
   if (!points) throw InputError((dir_ / name).string() + ": write failed");
 
   // The picture: the keyframe's image, its points by inverse depth and state.
-  const Image<PixelGrad>& level0 = keyframe.pyramid.level(0);
+  const Image<PixelGrad>& level0 = keyframe.Pyramid().level(0);
   Image<Rgb8> picture(level0.width(), level0.height());
   for (size_t i = 0; i < picture.size(); ++i) {
     const auto v = static_cast<uint8_t>(std::clamp(level0.data()[i][0], 0.f, 255.f));

@@ -5,6 +5,10 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <thread>
+
+#include <sys/resource.h>
+#include <tbb/global_control.h>
 
 #include "dsm/eval/metrics.h"
 #include "dsm/geometry/undistorter.h"
@@ -20,12 +24,19 @@ namespace fs = std::filesystem;
 namespace {
 
 nlohmann::json TimingStats(std::vector<double> ms) {
-  if (ms.empty()) return {{"median", 0.0}, {"p90", 0.0}, {"mean", 0.0}, {"count", 0}};
+  if (ms.empty()) return {{"median", 0.0}, {"p90", 0.0}, {"max", 0.0}, {"mean", 0.0}, {"count", 0}};
   std::sort(ms.begin(), ms.end());
   double sum = 0.0;
   for (double v : ms) sum += v;
   const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<size_t>(q * ms.size()))]; };
-  return {{"median", at(0.5)}, {"p90", at(0.9)}, {"mean", sum / ms.size()}, {"count", ms.size()}};
+  return {{"median", at(0.5)}, {"p90", at(0.9)}, {"max", ms.back()}, {"mean", sum / ms.size()}, {"count", ms.size()}};
+}
+
+// The most resident memory the process has had so far.
+double PeakRssMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // Linux reports kilobytes.
 }
 
 void WriteJson(const fs::path& path, const nlohmann::json& j) {
@@ -35,6 +46,15 @@ void WriteJson(const fs::path& path, const nlohmann::json& j) {
 }
 
 }  // namespace
+
+std::string PaceName(Pace pace) {
+  switch (pace) {
+    case Pace::kFree: return "free";
+    case Pace::kSequential: return "sequential";
+    case Pace::kRealtime: return "realtime";
+  }
+  return "?";
+}
 
 RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const fs::path& out_dir) {
   const auto wall0 = std::chrono::steady_clock::now();
@@ -48,25 +68,53 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   fs::create_directories(out_dir, ec);
   if (ec) throw InputError(out_dir.string() + ": cannot create the output folder (" + ec.message() + ")");
 
+  if (!options.debug_dir.empty() && options.pace != Pace::kSequential) {
+    throw InputError("--debug needs the sequential pace (--sequential): it reads the map after every keyframe");
+  }
+  if (options.workers < 0) throw InputError("--workers must be >= 0");
+  std::optional<tbb::global_control> workers;
+  if (options.workers > 0) workers.emplace(tbb::global_control::max_allowed_parallelism, options.workers);
+  SystemOptions system_options = options.system;
+  system_options.threaded = options.pace != Pace::kSequential;
+  system_options.wait_for_mapping = options.pace != Pace::kRealtime;
   const Undistorter undistorter(dataset.camera, {dataset.undistort_mode, 1 << (options.system.pyramid_levels - 1)});
-  System system(undistorter.output(), options.system);
+  System system(undistorter.output(), system_options);
   std::optional<DebugWriter> debug;
   if (!options.debug_dir.empty()) debug.emplace(options.debug_dir, dataset, undistorter);
   const auto process0 = std::chrono::steady_clock::now();
+  // Realtime: frame i is released at process0 + (t_i - t_start), as a camera would deliver it.
+  const auto release = [&](int i) {
+    return process0 + std::chrono::nanoseconds(dataset.frames[i].t_ns - dataset.frames[options.start].t_ns);
+  };
+  std::vector<double> latency_ms;  // Frame release (free, sequential: the start of its reading) to pose.
+  int dropped = 0;
   for (int i = options.start; i < end; ++i) {
+    auto released = std::chrono::steady_clock::now();
+    if (options.pace == Pace::kRealtime) {
+      // Frames that arrived while tracking was busy: only the newest is kept, as a camera driver
+      // with a one-frame buffer does.
+      int newest = i;
+      while (newest + 1 < end && release(newest + 1) <= released) ++newest;
+      dropped += newest - i;
+      i = newest;
+      if (release(i) > released) std::this_thread::sleep_until(release(i));
+      released = release(i);
+    }
     const Image<uint8_t> raw = dataset.LoadImage(i);
     const Image<float> irradiance = dataset.photometric ? dataset.photometric->ToIrradiance(raw) : ToFloat(raw);
     const FrameReport r = system.Process(i, dataset.frames[i].t_ns, undistorter.Apply(irradiance),
                                          dataset.frames[i].exposure_ms);
+    latency_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - released).count());
     if (debug && r.keyframe) debug->AddKeyframes(system);
     if (!options.quiet && (r.keyframe || r.status == TrackingStatus::kLost)) {
       std::printf("frame %5d  %-12s%s%s\n", i, TrackingStatusName(r.status).c_str(), r.keyframe ? " keyframe" : "",
                   r.reason.empty() ? "" : ("  (" + r.reason + ")").c_str());
     }
   }
+  system.Finish();
 
   // Speed against the recording: the frames' time span (one frame interval per frame) over the
-  // time spent reading and processing them; > 1 is faster than real time.
+  // time spent reading and processing them (mapping included); > 1 is faster than real time.
   const double process_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - process0).count();
   const int processed = end - options.start;
   const double recording_s =
@@ -92,7 +140,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                             {"reobservations", k.reobservations}, {"covisible", k.covisible},
                             {"pba", {{"keyframes", k.pba_keyframes}, {"fixed_keyframes", k.pba_fixed_keyframes},
                                      {"points", k.pba_points}, {"observations", k.pba_observations},
-                                     {"iterations", k.pba_iterations}}}});
+                                     {"iterations", k.pba_iterations}, {"ms", k.pba_ms}}}});
     created.push_back(k.points_created);
   }
   summary.stats = {
@@ -107,10 +155,16 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"covisible_keyframes_selected", s.covisible_keyframes_selected},
       {"points_created_per_keyframe", created},
       {"per_keyframe", per_keyframe},
-      {"timing_ms", {{"tracking", TimingStats(s.tracking_ms)}, {"mapping", TimingStats(s.mapping_ms)},
-                     {"pba", TimingStats(s.pba_ms)}}},
+      {"timing_ms", {{"tracking", TimingStats(s.tracking_ms)}, {"tracing", TimingStats(s.tracing_ms)},
+                     {"mapping", TimingStats(s.mapping_ms)}, {"pba", TimingStats(s.pba_ms)}}},
   };
   if (options.global_ba) summary.stats["timing_ms"]["global_ba"] = s.global_ba_ms;
+  summary.stats["pace"] = PaceName(options.pace);
+  summary.stats["frames_dropped"] = dropped;
+  const nlohmann::json latency = TimingStats(latency_ms);
+  summary.stats["latency_ms"] = {{"median", latency["median"]}, {"p90", latency["p90"]}, {"max", latency["max"]}};
+  summary.stats["keyframe_queue_max"] = s.keyframe_queue_max;
+  summary.stats["keyframe_waits"] = s.keyframe_waits;
   summary.stats["processing_s"] = process_s;
   summary.stats["frames_per_second"] = fps;
   if (recording_s > 0.0) {
@@ -142,6 +196,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     }
     WriteJson(out_dir / "eval.json", *summary.eval);
   }
+  summary.stats["peak_rss_mb"] = PeakRssMb();
   summary.stats["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   WriteJson(out_dir / "stats.json", summary.stats);
   return summary;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Running the system over a dataset and writing what a user evaluates:
 //   keyframes.tum, frames.tum   world_from_cam poses (TUM format, nanosecond timestamps)
-//   stats.json                  counts, timings, map size
+//   stats.json                  counts, timings, latency, memory, map size
 //   eval.json                   Sim(3)-aligned ATE of keyframes and frames (with ground truth)
 #pragma once
 
@@ -16,13 +16,25 @@
 
 namespace dsm {
 
+// How frames are fed to the system.
+enum class Pace {
+  kFree,        // Tracking and mapping on two threads; each frame as soon as tracking takes it.
+  kSequential,  // One thread; each keyframe mapped before the next frame (deterministic).
+  kRealtime,    // Two threads; frames released at their recorded timestamps, as by a live camera:
+                // a frame superseded by a newer one while tracking was busy is dropped.
+};
+std::string PaceName(Pace pace);
+
 struct RunOptions {
-  SystemOptions system;
+  SystemOptions system;  // system.threaded is set from `pace`.
+  Pace pace = Pace::kFree;
+  int workers = 0;  // Threads of the parallel loops (TBB) in each side; 0: one per core.
   int start = 0;   // First frame index.
   int end = -1;    // One past the last frame (-1: to the end).
   bool quiet = false;
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
-  std::filesystem::path debug_dir;  // Non-empty: per-keyframe diagnostics there (debug_writer.h).
+  // Non-empty: per-keyframe diagnostics there (debug_writer.h); they need the sequential pace.
+  std::filesystem::path debug_dir;
 };
 
 struct RunSummary {

@@ -7,7 +7,8 @@
 // ATE <= 0.05% of the path (before occlusions were handled its scale collapsed: 492 mm on the
 // 22 m path). Under render noise (`loop` with Gaussian noise of 6 grey levels, about a
 // path-traced frame's) DSM's keyframe ATE stays <= 0.1% of the path (before candidates kept off
-// noise-level gradients, its scale collapsed: 1396 mm). Two runs give identical output.
+// noise-level gradients, its scale collapsed: 1396 mm). Two sequential runs give identical output;
+// the two-thread paces keep the sequential accuracy.
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -53,6 +54,7 @@ TEST_P(SyntheticRun, MeetsTheAccuracyTargets) {
   for (const MapMode mode : {MapMode::kSlidingWindow, MapMode::kFull}) {
     const std::string name = mode == MapMode::kFull ? "dsm" : "sw";
     RunOptions options;
+    options.pace = Pace::kSequential;
     options.quiet = true;
     options.system.mode = mode;
     const RunSummary s = RunDataset(dataset, options, dir.parent_path() / ("out_" + name));
@@ -91,6 +93,7 @@ TEST(Run, RenderNoiseKeepsTheScale) {
   const fs::path dir = Render("loop", 0, 6.0);
   const Dataset dataset = OpenDataset(dir);
   RunOptions options;
+  options.pace = Pace::kSequential;
   options.quiet = true;
   const RunSummary s = RunDataset(dataset, options, dir.parent_path() / "out");
   std::printf("loop, noise 6: %s\n", s.line.c_str());
@@ -103,6 +106,7 @@ TEST(Run, TwoRunsGiveIdenticalOutput) {
   const fs::path dir = Render("shake", 80);
   const Dataset dataset = OpenDataset(dir);
   RunOptions options;
+  options.pace = Pace::kSequential;
   options.quiet = true;
   RunDataset(dataset, options, dir.parent_path() / "a");
   RunDataset(dataset, options, dir.parent_path() / "b");
@@ -111,6 +115,35 @@ TEST(Run, TwoRunsGiveIdenticalOutput) {
     EXPECT_FALSE(a.empty()) << file;
     EXPECT_EQ(a, b) << file;
   }
+}
+
+// The two-thread paces: every frame tracked (free) or tracked or dropped (realtime), the pace and
+// timing keys written, and the accuracy of the sequential run kept within a small margin.
+TEST(Run, ThreadedPacesKeepTheSequentialAccuracy) {
+  const fs::path dir = Render("loop", 200);  // The first third of the full loop.
+  const Dataset dataset = OpenDataset(dir);
+  std::map<Pace, RunSummary> runs;
+  for (const Pace pace : {Pace::kSequential, Pace::kFree, Pace::kRealtime}) {
+    RunOptions options;
+    options.pace = pace;
+    options.quiet = true;
+    runs[pace] = RunDataset(dataset, options, dir.parent_path() / ("pace_" + PaceName(pace)));
+    const nlohmann::json& stats = runs[pace].stats;
+    std::printf("%s: %s, latency p90 %.1f ms, %d dropped\n", PaceName(pace).c_str(), runs[pace].line.c_str(),
+                stats["latency_ms"]["p90"].get<double>(), stats["frames_dropped"].get<int>());
+    EXPECT_EQ(stats["pace"], PaceName(pace));
+    EXPECT_EQ(stats["frames"].get<int>() + stats["frames_dropped"].get<int>(), 200);
+    EXPECT_GE(stats["frames_tracked"].get<int>(), stats["frames"].get<int>() - 30);
+    EXPECT_GT(stats["peak_rss_mb"].get<double>(), 10.0);
+    EXPECT_GE(stats["latency_ms"]["max"].get<double>(), stats["latency_ms"]["p90"].get<double>());
+    ASSERT_TRUE(runs[pace].eval.has_value());
+  }
+  EXPECT_EQ(runs[Pace::kSequential].stats["keyframe_queue_max"].get<int>(), 0);
+  EXPECT_EQ(runs[Pace::kFree].stats["frames_dropped"].get<int>(), 0);
+  EXPECT_LE(runs[Pace::kFree].stats["keyframe_queue_max"].get<int>(), 1);
+  const double sequential = KeyframeAte(runs[Pace::kSequential]);
+  for (const Pace pace : {Pace::kFree, Pace::kRealtime})
+    EXPECT_LE(KeyframeAte(runs[pace]), 1.5 * sequential + 0.0005) << PaceName(pace);
 }
 
 TEST(Run, RejectsAnEmptyFrameRange) {

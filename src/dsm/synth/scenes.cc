@@ -161,8 +161,9 @@ SynthSequence MakeSequence(const SynthOptions& options) {
     const double tau = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
     Eigen::Vector3d position, target;
     if (name == "loop" || name == "exposure") {
-      // Two laps of an ellipse, looking outwards and a little ahead.
-      const double a = 2.0 * kTwoPi * tau;
+      // An ellipse at a steady pace, looking outwards and a little ahead: two laps in the default
+      // length, more in longer sequences (20 in 6000 frames).
+      const double a = 2.0 * kTwoPi * i / (DefaultFrames(name) - 1);
       position = Eigen::Vector3d(1.9 * std::cos(a), 1.3 * std::sin(a), 1.5) + 0.03 * jitter.At(t_s);
       const double look = a + 0.35;
       target = position + Eigen::Vector3d(std::cos(look), std::sin(look), -0.12) + 0.04 * look_jitter.At(t_s);

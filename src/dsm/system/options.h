@@ -23,6 +23,13 @@ enum class MapMode {
 
 struct SystemOptions {
   MapMode mode = MapMode::kFull;
+  // Mapping on a thread of its own beside tracking (system.h); false: every keyframe is mapped
+  // before the next frame is tracked, deterministically.
+  bool threaded = false;
+  // Threaded: when tracking wants a keyframe while the last one is still being mapped, wait for it
+  // (true), or go on against the older keyframe and make the keyframe once it is mapped (false:
+  // a live camera does not wait).
+  bool wait_for_mapping = true;
   int pyramid_levels = 5;          // Image pyramid (the undistorted size divides by 2^(levels-1)).
   int max_initialization_frames = 40;  // Frames on one initialiser reference before it restarts.
   InitializerOptions initializer;

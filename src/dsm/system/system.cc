@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "dsm/system/mapping_thread.h"
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/initializer.h"
 #include "dsm/util/check.h"
@@ -26,8 +27,12 @@ SE3d Scale(const SE3d& T, double s) { return SE3d::Exp(s * T.Log()); }
 // The absolute brightness of a frame tracked against `ref` with I_f = e^alpha I_ref + beta: from
 //   I_ref - b_ref = e^(a_ref - a_f) tau_ref / tau_f (I_f - b_f)
 // follow a_f = a_ref + alpha - log(tau_f / tau_ref) and b_f = beta + e^alpha b_ref.
+AffineBrightness FrameBrightness(const AffineBrightness& ref, double ref_exposure, double alpha, double beta,
+                                 double exposure) {
+  return {ref.a + alpha - std::log(exposure / ref_exposure), beta + std::exp(alpha) * ref.b};
+}
 AffineBrightness FrameBrightness(const Keyframe& ref, double alpha, double beta, double exposure) {
-  return {ref.affine.a + alpha - std::log(exposure / ref.exposure), beta + std::exp(alpha) * ref.affine.b};
+  return FrameBrightness(ref.affine, ref.exposure, alpha, beta, exposure);
 }
 
 }  // namespace
@@ -51,6 +56,7 @@ System::System(const PinholeCamera& camera, const SystemOptions& options)
   }
   initializer_ = std::make_unique<Initializer>(options_.initializer);
   tracker_ = std::make_unique<FrameTracker>(options_.tracker);
+  if (options_.threaded) mapping_thread_ = std::make_unique<MappingThread>();
 }
 
 System::~System() = default;
@@ -59,13 +65,15 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, 
   DSM_CHECK(image.width() == camera_.width && image.height() == camera_.height, "frame size differs from the camera");
   ++stats_.frames;
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
-  if (map_.NumKeyframes() == 0) return Initialize(index, t_ns, image, exposure);
+  if (!reference_) return Initialize(index, t_ns, image, exposure);
 
+  UpdateReference(want_keyframe_ && options_.wait_for_mapping);
   const auto t0 = std::chrono::steady_clock::now();
   FrameReport report;
   report.index = index;
-  auto pyramid = std::make_unique<ImagePyramid>(image, options_.pyramid_levels);
+  auto pyramid = std::make_shared<const ImagePyramid>(image, options_.pyramid_levels);
   TrackResult result;
+  last_frame_keyframe_ = -1;
   if (!TrackFrame(*pyramid, exposure, &result)) {
     report.status = TrackingStatus::kLost;
     report.reason = result.reason;
@@ -75,36 +83,111 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, 
   }
   report.status = TrackingStatus::kOk;
   ++stats_.frames_tracked;
-  frames_.push_back({t_ns, reference_, result.frame_from_keyframe});
-  TraceCandidates(*pyramid, result.frame_from_keyframe, result.alpha, result.beta, exposure);
+  frames_.push_back({t_ns, reference_->keyframe, result.frame_from_keyframe});
 
-  const Keyframe& ref = map_.keyframe(reference_);
   if (first_rmse_after_keyframe_ == 0.0) first_rmse_after_keyframe_ = result.rmse;
   KeyframeScores scores;
   scores.parallax = result.frame_from_keyframe.Translation().norm() * tracker_->MeanIdepth();
   scores.visibility = result.visibility;
-  scores.brightness = std::abs(result.alpha - std::log(exposure / ref.exposure));
+  scores.brightness = std::abs(result.alpha - std::log(exposure / reference_->exposure[reference_->keyframe]));
   scores.rmse = result.rmse;
   scores.first_rmse = first_rmse_after_keyframe_;
   report.tracking_ms = MsSince(t0);
   stats_.tracking_ms.push_back(report.tracking_ms);
-  if (!ShouldCreateKeyframe(scores, options_.keyframe)) return report;
 
+  MappingJob job;
+  job.index = index;
+  job.t_ns = t_ns;
+  job.exposure = exposure;
+  job.pyramid = std::move(pyramid);
+  job.reference = reference_->keyframe;
+  job.frame_from_reference = result.frame_from_keyframe;
+  job.alpha = result.alpha;
+  job.beta = result.beta;
+  want_keyframe_ = false;
+  if (ShouldCreateKeyframe(scores, options_.keyframe)) {
+    if (mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
+      want_keyframe_ = true;  // The next frame waits for the pending keyframe (or not) and decides again.
+    } else {
+      job.keyframe = next_keyframe_++;
+      // Its error model starts as the one fitted to its tracking residuals: it judges which map
+      // points the keyframe sees before the PBA (System::SeenIn), which then refits it.
+      job.model = options_.tracker.robust.kind == options_.pba.robust.kind ? result.model
+                                                                           : DefaultErrorModel(options_.pba.robust);
+      job.rmse = result.rmse;
+      job.inlier_ratio = result.inlier_ratio;
+      frames_.back() = {t_ns, job.keyframe, SE3d()};
+      last_frame_keyframe_ = job.keyframe;
+      report.keyframe = true;
+    }
+  }
   const auto t1 = std::chrono::steady_clock::now();
-  CreateKeyframe(index, t_ns, std::move(pyramid), exposure, result.frame_from_keyframe * ref.cam_from_world,
-                 FrameBrightness(ref, result.alpha, result.beta, exposure));
-  const int kf = map_.NumKeyframes() - 1;
-  // Its error model starts as the one fitted to its tracking residuals: it judges which map points
-  // the keyframe sees before the PBA (System::SeenIn), which then refits it.
-  if (options_.tracker.robust.kind == options_.pba.robust.kind) map_.keyframe(kf).error_model = result.model;
-  frames_.back() = {t_ns, kf, SE3d()};
-  MapNewKeyframe(kf);
-  stats_.per_keyframe.back().tracking_rmse = result.rmse;
-  stats_.per_keyframe.back().tracking_inlier_ratio = result.inlier_ratio;
-  report.keyframe = true;
-  report.mapping_ms = MsSince(t1);
-  stats_.mapping_ms.push_back(report.mapping_ms);
+  Submit(std::move(job));
+  if (!mapping_thread_) report.mapping_ms = MsSince(t1);
   return report;
+}
+
+void System::Submit(MappingJob job) {
+  if (!mapping_thread_) return RunJob(job);
+  const bool keyframe = job.keyframe >= 0;
+  mapping_thread_->Submit([this, job = std::move(job)] { RunJob(job); }, keyframe);
+}
+
+void System::RunJob(const MappingJob& job) {
+  const auto t0 = std::chrono::steady_clock::now();
+  TraceCandidates(*job.pyramid, job.reference, job.frame_from_reference, job.alpha, job.beta, job.exposure);
+  stats_.tracing_ms.push_back(MsSince(t0));
+  if (job.keyframe < 0) return;
+  const Keyframe& ref = map_.keyframe(job.reference);
+  CreateKeyframe(job.index, job.t_ns, job.pyramid, job.exposure, job.frame_from_reference * ref.cam_from_world,
+                 FrameBrightness(ref, job.alpha, job.beta, job.exposure));
+  const int kf = map_.NumKeyframes() - 1;
+  DSM_CHECK(kf == job.keyframe, "keyframes were mapped out of order");
+  map_.keyframe(kf).error_model = job.model;
+  MapNewKeyframe(kf);
+  stats_.per_keyframe.back().tracking_rmse = job.rmse;
+  stats_.per_keyframe.back().tracking_inlier_ratio = job.inlier_ratio;
+  stats_.mapping_ms.push_back(MsSince(t0));
+}
+
+void System::UpdateReference(bool wait) {
+  if (mapping_thread_ && wait) {
+    ++stats_.keyframe_waits;
+    mapping_thread_->WaitForKeyframes();
+  }
+  std::shared_ptr<const TrackingReference> next;
+  {
+    std::lock_guard<std::mutex> lock(reference_mutex_);
+    next = published_;
+  }
+  if (next == reference_) return;
+  if (reference_ && last_frame_keyframe_ != next->keyframe) {
+    // The last frame is not the new reference keyframe (it was made while tracking went on, or
+    // the last frame was lost): its pose and brightness move from the old reference to it.
+    // Both keyframes as the new snapshot has them (the bundle adjustment moved both since).
+    const int o = reference_->keyframe, n = next->keyframe;
+    last_frame_from_reference_ = last_frame_from_reference_ * next->cam_from_world[o] * next->cam_from_world[n].Inverse();
+    // Absolute brightness of the last frame, then relative to the new reference (FrameBrightness
+    // inverted: alpha = a_f - a_ref + log(tau_f / tau_ref), beta = b_f - e^alpha b_ref).
+    const AffineBrightness f = FrameBrightness(next->affine[o], next->exposure[o], last_alpha_, last_beta_, last_exposure_);
+    last_alpha_ = f.a - next->affine[n].a + std::log(last_exposure_ / next->exposure[n]);
+    last_beta_ = f.b - std::exp(last_alpha_) * next->affine[n].b;
+  } else {
+    // The new reference is the keyframe made from the last tracked frame.
+    last_frame_from_reference_ = SE3d();
+    last_alpha_ = 0.0;
+    last_beta_ = 0.0;
+  }
+  reference_ = std::move(next);
+  tracker_->SetReference(reference_->pyramid.get(), camera_, reference_->points);
+  first_rmse_after_keyframe_ = 0.0;
+}
+
+void System::Finish() {
+  if (mapping_thread_) {
+    mapping_thread_->WaitUntilIdle();
+    stats_.keyframe_queue_max = mapping_thread_->KeyframeQueueMax();
+  }
 }
 
 FrameReport System::Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure) {
@@ -112,7 +195,7 @@ FrameReport System::Initialize(int index, int64_t t_ns, const Image<float>& imag
   report.index = index;
   report.status = TrackingStatus::kInitializing;
   const auto t0 = std::chrono::steady_clock::now();
-  PendingFrame frame{index, t_ns, exposure, std::make_unique<ImagePyramid>(image, options_.pyramid_levels)};
+  PendingFrame frame{index, t_ns, exposure, std::make_shared<const ImagePyramid>(image, options_.pyramid_levels)};
   if (!initializer_->HasReference() || static_cast<int>(pending_.size()) >= options_.max_initialization_frames) {
     // (Re)start on this frame; frames waiting on an older reference stay untracked.
     for (const PendingFrame& p : pending_) frames_.push_back({p.t_ns, -1, SE3d()});
@@ -152,7 +235,7 @@ void System::StartMap(const InitResult& init) {
     p.idepth = ip.idepth;
     p.created_at_keyframe = 2;
     HostPatch patch;
-    if (!SampleHostPatch(map_.keyframe(0).pyramid, 0, p.pixel, &patch)) continue;
+    if (!SampleHostPatch(map_.keyframe(0).Pyramid(), 0, p.pixel, &patch)) continue;
     map_.AddPoint(p);
     ++stats_.points_created;
     ++stats_.per_keyframe.back().points_created;
@@ -160,12 +243,14 @@ void System::StartMap(const InitResult& init) {
   SelectCandidates(0);
   // Candidates of keyframe 0 traced in keyframe 1 with the initial pose.
   window_ = {0};
-  reference_ = 0;
   // Brightness guess: only the exposure changed (alpha = log(tau_1 / tau_0), so a_1 = 0).
-  TraceCandidates(map_.keyframe(1).pyramid, init.current_from_reference, std::log(last.exposure / first.exposure), 0.0,
-                  last.exposure);
+  TraceCandidates(map_.keyframe(1).Pyramid(), 0, init.current_from_reference, std::log(last.exposure / first.exposure),
+                  0.0, last.exposure);
   frames_.push_back({first.t_ns, 0, SE3d()});
   MapNewKeyframe(1);
+  next_keyframe_ = 2;
+  last_frame_keyframe_ = 1;
+  UpdateReference(false);
   stats_.frames_tracked += 2;
 
   // The frames between the two keyframes, tracked now against keyframe 1.
@@ -176,7 +261,7 @@ void System::StartMap(const InitResult& init) {
     const TrackResult r = tracker_->Track(*pending_[i].pyramid, guess, 0.0, 0.0);
     if (r.ok) {
       ++stats_.frames_tracked;
-      frames_.push_back({pending_[i].t_ns, reference_, r.frame_from_keyframe});
+      frames_.push_back({pending_[i].t_ns, 1, r.frame_from_keyframe});
     } else {
       frames_.push_back({pending_[i].t_ns, -1, SE3d()});
     }
@@ -225,9 +310,9 @@ bool System::TrackFrame(const ImagePyramid& pyramid, double exposure, TrackResul
   return true;
 }
 
-void System::TraceCandidates(const ImagePyramid& pyramid, const SE3d& frame_from_reference, double alpha, double beta,
-                             double exposure) {
-  const Keyframe& ref = map_.keyframe(reference_);
+void System::TraceCandidates(const ImagePyramid& pyramid, int reference, const SE3d& frame_from_reference,
+                             double alpha, double beta, double exposure) {
+  const Keyframe& ref = map_.keyframe(reference);
   const AffineBrightness frame = FrameBrightness(ref, alpha, beta, exposure);
   const SE3d frame_from_world = frame_from_reference * ref.cam_from_world;
   for (int h : window_) {

@@ -1,18 +1,28 @@
 // SPDX-License-Identifier: MIT
-// The system facade: feed undistorted frames in order, get poses. Sequential and deterministic:
-// every frame is tracked and every keyframe mapped before the next frame is processed.
+// The system facade: feed undistorted frames in order, get poses.
 //
-// Per frame: initialise (until a two-view start succeeds), then track against the newest
-// keyframe, refine the candidates of the temporal keyframes along their epipolar lines, and decide
-// whether the frame becomes a keyframe. A new keyframe gets observations of the window's points,
-// enters the temporal window (one keyframe leaves), old keyframes covisible with it join the
-// window (DSM mode) and their points get observations in it (re-observations), candidates are
-// activated into the areas still depleted, the photometric bundle adjustment runs over the whole
-// window, points are culled, and the tracker's reference moves to the new keyframe.
+// Two sides, as the paper's two threads (section III). The tracking side (Process, on the caller's
+// thread) initialises, builds the frame's pyramid, tracks it against the newest keyframe the
+// mapping side has finished, and decides whether it becomes a keyframe. The mapping side refines
+// the candidates of the temporal keyframes along their epipolar lines with every tracked frame, and
+// maps a new keyframe: observations of the window's points in it, it enters the temporal window
+// (one keyframe leaves), old keyframes covisible with it join the window (DSM mode) with their
+// points' re-observations, candidates are activated where the view is still depleted, the
+// photometric bundle adjustment runs over the window, points are culled, and the tracking side
+// gets the keyframe as its new reference.
+//
+// With SystemOptions::threaded false (the default) the mapping work runs inside Process: every
+// keyframe is mapped before the next frame, and the output is deterministic. With it true the
+// mapping side runs on its own thread (mapping_thread.h); the two share nothing but the jobs
+// handed over (frame pyramid, pose relative to its reference keyframe, brightness) and the
+// published tracking reference (TrackingReference, an immutable snapshot). While a keyframe is
+// still being mapped the tracking side goes on against the older reference; when it wants another
+// keyframe meanwhile, it waits for the pending one first (at most one keyframe in flight).
 #pragma once
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,6 +32,7 @@
 #include "dsm/image/image.h"
 #include "dsm/map/map.h"
 #include "dsm/system/options.h"
+#include "dsm/tracking/frame_tracker.h"
 
 namespace dsm {
 
@@ -33,15 +44,16 @@ struct FrameReport {
   TrackingStatus status = TrackingStatus::kInitializing;
   std::string reason;       // For kInitializing / kLost.
   bool keyframe = false;
-  double tracking_ms = 0.0;
-  double mapping_ms = 0.0;  // Keyframe creation and PBA, when this frame became one.
+  double tracking_ms = 0.0;  // Pyramid and alignment.
+  double mapping_ms = 0.0;   // Sequential: its candidate tracing, and its mapping when it became a keyframe.
 };
 
 struct SystemStats {
   int frames = 0, frames_tracked = 0, keyframes = 0;
   int initialized_at_frame = -1;
-  std::vector<double> tracking_ms;  // Per tracked frame.
-  std::vector<double> mapping_ms;   // Per keyframe.
+  std::vector<double> tracking_ms;  // Per tracked frame: its pyramid and alignment.
+  std::vector<double> tracing_ms;   // Per tracked frame: candidate tracing (mapping side).
+  std::vector<double> mapping_ms;   // Per keyframe: everything the mapping side does to it.
   std::vector<double> pba_ms;       // Per keyframe.
   int points_created = 0;           // Initial points and activated candidates.
   int reobservations = 0;           // Observations created for points hosted outside the temporal window.
@@ -54,6 +66,7 @@ struct SystemStats {
     // Its bundle adjustment: keyframes in the problem (and how many of them fixed), points,
     // observations, LM iterations over all levels.
     int pba_keyframes = 0, pba_fixed_keyframes = 0, pba_points = 0, pba_observations = 0, pba_iterations = 0;
+    double pba_ms = 0.0;           // Its bundle adjustment's time.
     int observations_removed = 0;  // Marked outliers after its bundle adjustment.
     int points_culled = 0;         // Removed after its bundle adjustment.
     // Tracking of the frame that became this keyframe (0 for the first two).
@@ -61,6 +74,8 @@ struct SystemStats {
   };
   std::vector<KeyframeLog> per_keyframe;
   double global_ba_ms = -1.0;       // -1: not run.
+  int keyframe_queue_max = 0;       // Most keyframes handed to the mapping side and not yet mapped.
+  int keyframe_waits = 0;           // Frames whose tracking waited for a keyframe to be mapped.
 };
 
 class System {
@@ -69,8 +84,11 @@ class System {
   ~System();
 
   // `image`: undistorted (and photometrically corrected) frame of the camera's size.
-  // `exposure_ms`: 0 when unknown.
+  // `exposure_ms`: 0 when unknown. Returns once the frame is tracked (and, sequential, mapped).
   FrameReport Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms);
+  // Waits until the mapping side has done all the work handed to it (nothing to wait for when
+  // sequential). The accessors below read the map: call this first when threaded.
+  void Finish();
 
   // world_from_cam of every keyframe / every tracked frame, with the latest keyframe poses.
   Trajectory KeyframeTrajectory() const;
@@ -97,15 +115,46 @@ class System {
     int index;
     int64_t t_ns;
     double exposure;
-    std::unique_ptr<ImagePyramid> pyramid;
+    std::shared_ptr<const ImagePyramid> pyramid;
+  };
+  // A tracked frame handed to the mapping side; its pose and brightness are relative to the
+  // reference keyframe it was tracked against (I_frame = e^alpha I_reference + beta).
+  struct MappingJob {
+    int index = -1;
+    int64_t t_ns = 0;
+    double exposure = 1.0;
+    std::shared_ptr<const ImagePyramid> pyramid;
+    int reference = -1;
+    SE3d frame_from_reference;
+    double alpha = 0.0, beta = 0.0;
+    int keyframe = -1;  // Its keyframe id when it becomes one.
+    ErrorModel model;   // Fitted to its tracking residuals.
+    double rmse = 0.0, inlier_ratio = 0.0;
+  };
+  // What tracking needs of its reference keyframe: published by the mapping side once the
+  // keyframe is mapped, never changed after.
+  struct TrackingReference {
+    int keyframe = -1;
+    std::shared_ptr<const ImagePyramid> pyramid;
+    std::vector<ReferencePoint> points;
+    // Of keyframes 0..keyframe, as the map had them then.
+    std::vector<SE3d> cam_from_world;
+    std::vector<AffineBrightness> affine;
+    std::vector<double> exposure;
   };
 
   FrameReport Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure);
   void StartMap(const struct InitResult& init);
   bool TrackFrame(const ImagePyramid& pyramid, double exposure, struct TrackResult* result);
-  void TraceCandidates(const ImagePyramid& pyramid, const SE3d& frame_from_reference, double alpha, double beta,
-                       double exposure);
-  void CreateKeyframe(int index, int64_t t_ns, std::unique_ptr<ImagePyramid> pyramid, double exposure,
+  // Tracking side: takes the newest published reference (waiting for the pending keyframe first
+  // when `wait`), and moves the last frame's pose and brightness onto it.
+  void UpdateReference(bool wait);
+  void Submit(MappingJob job);
+  // Mapping side.
+  void RunJob(const MappingJob& job);
+  void TraceCandidates(const ImagePyramid& pyramid, int reference, const SE3d& frame_from_reference, double alpha,
+                       double beta, double exposure);
+  void CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                       const SE3d& cam_from_world, const AffineBrightness& affine);
   void MapNewKeyframe(int kf);
   // Candidates activated where no active point seen in `newest` (SeenIn) nor old map point is near.
@@ -115,29 +164,38 @@ class System {
   std::vector<uint8_t> SeenIn(const std::vector<int>& ids, int target) const;
   int CullPoints();  // Returns how many it removed.
   void SelectCandidates(int kf);
-  void SetTrackingReference();
+  void PublishTrackingReference();
   // Covisible keyframes and their points' re-observations in `newest`, except hidden ones.
   void SelectCovisible(int newest, OcclusionGrid* occlusion);
   void AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const;
 
   PinholeCamera camera_;
   SystemOptions options_;
+  // Mapping side (or the caller's thread before the map starts).
   Map map_;
   std::vector<int> window_;     // Temporal window, oldest first.
   std::vector<int> covisible_; // Covisible part of the window (DSM mode).
   std::vector<Eigen::Vector2f> old_pixels_;  // Newest-keyframe pixels of old, unselected map points.
   std::map<int, std::vector<Candidate>> candidates_;
+  float min_activation_distance_px_;
+  // Handed from the mapping side to the tracking side.
+  mutable std::mutex reference_mutex_;
+  std::shared_ptr<const TrackingReference> published_;
+  std::unique_ptr<class MappingThread> mapping_thread_;  // Threaded only.
+  // Tracking side.
   std::unique_ptr<class Initializer> initializer_;
   std::vector<PendingFrame> pending_;
   std::unique_ptr<class FrameTracker> tracker_;
-  int reference_ = -1;  // Keyframe the tracker uses.
+  std::shared_ptr<const TrackingReference> reference_;  // The tracker's.
+  int next_keyframe_ = 0;         // Id of the next keyframe the tracking side makes.
+  int last_frame_keyframe_ = -1;  // The keyframe made from the last tracked frame, if any.
+  bool want_keyframe_ = false;    // The last frame wanted a keyframe while one was pending.
   std::vector<FrameRecordInternal> frames_;
   SE3d last_frame_from_reference_, velocity_;  // velocity: last frame motion (frame_from_previous)
   double last_alpha_ = 0.0, last_beta_ = 0.0;  // Brightness of the last frame relative to the reference.
   double last_exposure_ = 1.0;
   double first_rmse_after_keyframe_ = 0.0;
-  float min_activation_distance_px_;
-  SystemStats stats_;
+  SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.
 };
 
 }  // namespace dsm

@@ -34,7 +34,7 @@ DistanceMap ProjectedDistanceMap(const Map& map, const PinholeCamera& camera, co
 
 }  // namespace
 
-void System::CreateKeyframe(int index, int64_t t_ns, std::unique_ptr<ImagePyramid> pyramid, double exposure,
+void System::CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                             const SE3d& cam_from_world, const AffineBrightness& affine) {
   auto kf = std::make_unique<Keyframe>();
   kf->frame_index = index;
@@ -42,7 +42,7 @@ void System::CreateKeyframe(int index, int64_t t_ns, std::unique_ptr<ImagePyrami
   kf->cam_from_world = cam_from_world;
   kf->affine = affine;
   kf->exposure = exposure;
-  kf->pyramid = std::move(*pyramid);
+  kf->pyramid = std::move(pyramid);
   kf->error_model = DefaultErrorModel(options_.pba.robust);
   map_.AddKeyframe(std::move(kf));
   ++stats_.keyframes;
@@ -94,11 +94,12 @@ void System::MapNewKeyframe(int kf) {
   log.pba_points = pba.points;
   log.pba_observations = pba.observations;
   log.pba_iterations = pba.iterations;
+  log.pba_ms = pba.time_ms;
   log.observations_removed = pba.observations_removed;
   stats_.pba_ms.push_back(pba.time_ms);
   log.points_culled = CullPoints();
   SelectCandidates(kf);
-  SetTrackingReference();
+  PublishTrackingReference();
 }
 
 void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const {
@@ -247,15 +248,16 @@ void System::SelectCandidates(int kf) {
   std::vector<Candidate>& list = candidates_[kf];
   list.clear();
   const Keyframe& keyframe = map_.keyframe(kf);
-  for (const SelectedPixel& s : dsm::SelectCandidates(keyframe.pyramid, options_.candidates)) {
+  for (const SelectedPixel& s : dsm::SelectCandidates(keyframe.Pyramid(), options_.candidates)) {
     Candidate c;
-    if (MakeCandidate(keyframe.pyramid, s.pixel, &c)) list.push_back(c);
+    if (MakeCandidate(keyframe.Pyramid(), s.pixel, &c)) list.push_back(c);
   }
 }
 
-void System::SetTrackingReference() {
+void System::PublishTrackingReference() {
+  auto ref = std::make_shared<TrackingReference>();
   const int newest = window_.back();
-  std::vector<ReferencePoint> points;
+  const Keyframe& keyframe = map_.keyframe(newest);
   for (int pid : ActivePointIds()) {
     Point& p = map_.point(pid);
     // Only points the bundle adjustment saw in the newest keyframe (TrackerOptions).
@@ -263,17 +265,17 @@ void System::SetTrackingReference() {
     if (options_.tracker.verified_reference && p.host != newest && (o == nullptr || o->outlier)) continue;
     Eigen::Vector2f px;
     float rho;
-    if (ProjectPoint(map_, camera_, p, newest, 2.f, &px, &rho)) points.push_back({px, rho});
+    if (ProjectPoint(map_, camera_, p, newest, 2.f, &px, &rho)) ref->points.push_back({px, rho});
   }
-  if (newest != reference_) {
-    // The new reference is the keyframe made from the last tracked frame.
-    last_frame_from_reference_ = SE3d();
-    last_alpha_ = 0.0;
-    last_beta_ = 0.0;
+  ref->keyframe = newest;
+  ref->pyramid = keyframe.pyramid;
+  for (int k = 0; k <= newest; ++k) {
+    ref->cam_from_world.push_back(map_.keyframe(k).cam_from_world);
+    ref->affine.push_back(map_.keyframe(k).affine);
+    ref->exposure.push_back(map_.keyframe(k).exposure);
   }
-  reference_ = newest;
-  tracker_->SetReference(&map_.keyframe(newest).pyramid, camera_, points);
-  first_rmse_after_keyframe_ = 0.0;
+  std::lock_guard<std::mutex> lock(reference_mutex_);
+  published_ = std::move(ref);
 }
 
 }  // namespace dsm

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# ThreadSanitizer check of the two-thread paces: builds `dsm` with -fsanitize=thread in
+# build-tsan/ (override with DSM_TSAN_DIR), then runs the default and the realtime pace on a
+# rendered `loop` (200 frames) and on the first 120 shared EuRoC frames. `--workers 1` keeps the
+# parallel loops on the system's own two threads (TBB's worker threads are not instrumented and
+# would only produce reports about TBB itself). Fails on the first report.
+# Usage: ./scripts/tsan.sh [WORK_DIR]   (default /tmp/dsm_tsan)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./scripts/setup.sh >/dev/null
+TSAN_DIR="${DSM_TSAN_DIR:-build-tsan}"
+WORK="${1:-/tmp/dsm_tsan}"
+DATA="${DSM_SHARED_DATA_DIR:-../shared/data}"
+if [ ! -f "$TSAN_DIR/build.ninja" ]; then
+  cmake -S . -B "$TSAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDSM_SANITIZE=thread \
+    -DDSM_BUILD_TESTS=OFF -DDSM_BUILD_BENCHMARKS=OFF >/dev/null
+fi
+cmake --build "$TSAN_DIR" --target dsm -j "${DSM_JOBS:-$(nproc)}"
+DSM="$TSAN_DIR/bin/dsm"
+export TSAN_OPTIONS="halt_on_error=1 exitcode=66 suppressions=$PWD/scripts/tsan.supp"
+mkdir -p "$WORK"
+# The renderer's parallel loop runs on TBB's uninstrumented threads: not part of the check.
+[ -f "$WORK/loop/groundtruth.tum" ] ||
+  TSAN_OPTIONS=report_bugs=0 "$DSM" synth --scene loop --frames 200 --out "$WORK/loop" >/dev/null
+runs=("loop|$WORK/loop|")
+if [ -d "$DATA/euroc_mh01_shake" ]; then runs+=("euroc|$DATA/euroc_mh01_shake|--end 120"); fi
+for entry in "${runs[@]}"; do
+  IFS='|' read -r name dataset extra <<<"$entry"
+  for pace in free realtime; do
+    flag=""
+    [ "$pace" = realtime ] && flag="--realtime"
+    # shellcheck disable=SC2086
+    "$DSM" run "$dataset" --out "$WORK/run_${name}_$pace" --quiet --workers 1 $flag $extra
+    echo "tsan: $name $pace clean"
+  done
+done
