@@ -23,6 +23,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   std::map<std::string, Setter> s;
   s["system.pyramid_levels"] = Set(&o->pyramid_levels);
   s["system.max_initialization_frames"] = Set(&o->max_initialization_frames);
+  s["system.keep_pyramid_keyframes"] = Set(&o->keep_pyramid_keyframes);
   s["initializer.max_corners"] = Set(&o->initializer.max_corners);
   s["initializer.min_parallax_deg"] = Set(&o->initializer.min_parallax_deg);
   s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);

@@ -1,12 +1,27 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/map/map.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
 #include "dsm/util/check.h"
 
 namespace dsm {
 
 Keyframe& Map::AddKeyframe(std::unique_ptr<Keyframe> keyframe) {
   keyframe->id = NumKeyframes();
+  if (keyframe->pyramid == nullptr) {  // Geometry only (tests of window selection).
+    keyframes_.push_back(std::move(keyframe));
+    return *keyframes_.back();
+  }
+  const Image<PixelGrad>& level0 = keyframe->pyramid->level(0);
+  keyframe->image = Image<uint16_t>(level0.width(), level0.height());
+  for (size_t i = 0; i < level0.size(); ++i)
+    keyframe->image.data()[i] = static_cast<uint16_t>(std::lround(std::clamp(level0.data()[i][0] * 64.f, 0.f, 65535.f)));
+  keyframe->pyramid_levels = keyframe->pyramid->levels();
+  keyframe->pyramid_used = epoch_;
   keyframes_.push_back(std::move(keyframe));
   return *keyframes_.back();
 }
@@ -14,9 +29,46 @@ Keyframe& Map::AddKeyframe(std::unique_ptr<Keyframe> keyframe) {
 int Map::AddPoint(Point point) {
   DSM_CHECK(point.host >= 0 && point.host < NumKeyframes(), "point host out of range");
   point.id = NumPoints();
+  const Keyframe& host = *keyframes_[point.host];
+  point.patch_ok = host.pyramid != nullptr && SampleHostPatch(*host.pyramid, 0, point.pixel, &point.patch);
   keyframes_[point.host]->points.push_back(point.id);
   points_.push_back(std::move(point));
   return points_.back().id;
+}
+
+int Map::LoadPyramids(const std::vector<int>& ids) {
+  std::vector<Keyframe*> missing;
+  for (int id : ids) {
+    Keyframe& kf = *keyframes_[id];
+    if (kf.pyramid == nullptr && (missing.empty() || std::find(missing.begin(), missing.end(), &kf) == missing.end()))
+      missing.push_back(&kf);
+    kf.pyramid_used = epoch_;
+  }
+  tbb::parallel_for(size_t{0}, missing.size(), [&](size_t i) {
+    Keyframe& kf = *missing[i];
+    Image<float> image(kf.image.width(), kf.image.height());
+    for (size_t p = 0; p < image.size(); ++p) image.data()[p] = kf.image.data()[p] * (1.f / 64.f);
+    kf.pyramid = std::make_shared<const ImagePyramid>(image, kf.pyramid_levels);
+  });
+  return static_cast<int>(missing.size());
+}
+
+int Map::ReleaseUnusedPyramids(int keep_epochs) {
+  int released = 0;
+  for (auto& kf : keyframes_) {
+    if (kf->pyramid != nullptr && kf->pyramid_used <= epoch_ - keep_epochs) {
+      kf->pyramid.reset();
+      ++released;
+    }
+  }
+  ++epoch_;
+  return released;
+}
+
+int Map::NumLoadedPyramids() const {
+  int n = 0;
+  for (const auto& kf : keyframes_) n += kf->pyramid != nullptr;
+  return n;
 }
 
 int Map::NumLivePoints() const {

@@ -15,6 +15,7 @@
 #include "dsm/lie/se3.h"
 #include "dsm/photometric/residual.h"
 #include "dsm/photometric/robust.h"
+#include "dsm/util/check.h"
 
 namespace dsm {
 
@@ -31,6 +32,10 @@ struct Point {
   std::vector<Observation> observations;
   int created_at_keyframe = 0;  // Number of keyframes in the map when it was activated.
   bool removed = false;
+  // Its level-0 patch in the host, sampled when it was added (Map::AddPoint), so that checks of
+  // old points need no pyramid of their host; patch_ok false: the pattern leaves the image.
+  HostPatch patch;
+  bool patch_ok = false;
 
   int NumGoodObservations() const {
     int n = 0;
@@ -51,12 +56,23 @@ struct Keyframe {
   SE3d cam_from_world;
   AffineBrightness affine;
   double exposure = 1.0;  // Exposure time (1 when unknown).
-  // Shared with whoever still reads it (the tracker of the other thread holds its reference's).
+  // Its image pyramid while the keyframe is in use (Map::LoadPyramids); null once
+  // Map::ReleaseUnusedPyramids dropped it. Shared with whoever still reads it (the tracking
+  // thread holds its reference keyframe's).
   std::shared_ptr<const ImagePyramid> pyramid;
+  // Level-0 intensities in fixed point (1/64 grey level, 0..1023.98): 2 bytes a pixel instead of
+  // the pyramid's ~16. A released pyramid is rebuilt from it.
+  Image<uint16_t> image;
+  int pyramid_levels = 0;
+  int pyramid_used = 0;  // Map epoch of its last use.
   ErrorModel error_model;  // Fitted to the residuals of the observations in this keyframe.
   std::vector<int> points; // Ids of the points it hosts.
 
-  const ImagePyramid& Pyramid() const { return *pyramid; }
+  const ImagePyramid& Pyramid() const {
+    DSM_CHECK(pyramid != nullptr, "keyframe pyramid used without Map::LoadPyramids");
+    return *pyramid;
+  }
+  float Intensity(int x, int y) const { return image(x, y) * (1.f / 64.f); }
   SE3d WorldFromCam() const { return cam_from_world.Inverse(); }
   Eigen::Vector3d Centre() const { return WorldFromCam().Translation(); }
 };
@@ -75,7 +91,16 @@ class Map {
   int NumPoints() const { return static_cast<int>(points_.size()); }
   int NumLivePoints() const;
 
+  // Memory: a keyframe keeps its pyramid only while it is used. LoadPyramids rebuilds the missing
+  // pyramids of `ids` from their images and marks them used in the current epoch;
+  // ReleaseUnusedPyramids ends an epoch (one mapped keyframe) and drops the pyramids not used in
+  // the last `keep_epochs` epochs. Returns how many it rebuilt / dropped.
+  int LoadPyramids(const std::vector<int>& ids);
+  int ReleaseUnusedPyramids(int keep_epochs);
+  int NumLoadedPyramids() const;
+
  private:
+  int epoch_ = 0;
   std::vector<std::unique_ptr<Keyframe>> keyframes_;
   std::vector<Point> points_;
 };

@@ -11,8 +11,8 @@ bool LooksConsistent(const Map& map, const PinholeCamera& camera, const Point& p
                      const ErrorModel& model, double max_bad_ratio) {
   const Keyframe& host = map.keyframe(point.host);
   const Keyframe& t = map.keyframe(target);
-  HostPatch patch;
-  if (!SampleHostPatch(host.Pyramid(), 0, point.pixel, &patch)) return false;
+  if (!point.patch_ok) return false;
+  const HostPatch& patch = point.patch;
   const SE3d target_from_host = t.cam_from_world * host.cam_from_world.Inverse();
   ObservationInput in;
   in.camera = &camera;

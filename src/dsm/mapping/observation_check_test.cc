@@ -42,7 +42,9 @@ TEST(LooksConsistent, PatternLeavingTheImageIsNotConsistent) {
   testing::BuildWorld({0, 4}, &w);
   Point p = w.map.point(0);
   p.pixel = Eigen::Vector2f(0.5f, 0.5f);  // The host pattern cannot be sampled.
-  EXPECT_FALSE(LooksConsistent(w.map, w.seq.camera, p, 1, DefaultErrorModel(RobustOptions{}), 0.3));
+  const Point& added = w.map.point(w.map.AddPoint(p));
+  EXPECT_FALSE(added.patch_ok);
+  EXPECT_FALSE(LooksConsistent(w.map, w.seq.camera, added, 1, DefaultErrorModel(RobustOptions{}), 0.3));
 }
 
 }  // namespace

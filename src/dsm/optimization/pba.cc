@@ -142,6 +142,7 @@ class Problem {
         points_.push_back(std::move(ps));
       }
     });
+    map->LoadPyramids(cams_);
     // A camera tied to the rest by few observations is nearly free (its motion barely changes
     // the energy): it stays fixed in this solve instead of taking a wild step.
     std::vector<int> links(cams_.size(), 0);

@@ -191,12 +191,12 @@ void DebugWriter::WriteKeyframe(const System& system, int kf) {
   if (!points) throw InputError((dir_ / name).string() + ": write failed");
 
   // The picture: the keyframe's image, its points by inverse depth and state.
-  const Image<PixelGrad>& level0 = keyframe.Pyramid().level(0);
-  Image<Rgb8> picture(level0.width(), level0.height());
-  for (size_t i = 0; i < picture.size(); ++i) {
-    const auto v = static_cast<uint8_t>(std::clamp(level0.data()[i][0], 0.f, 255.f));
-    picture.data()[i] = {v, v, v};
-  }
+  Image<Rgb8> picture(keyframe.image.width(), keyframe.image.height());
+  for (int y = 0; y < picture.height(); ++y)
+    for (int x = 0; x < picture.width(); ++x) {
+      const auto v = static_cast<uint8_t>(std::clamp(keyframe.Intensity(x, y), 0.f, 255.f));
+      picture(x, y) = {v, v, v};
+    }
   const double lo = Quantile(idepths, 0.05), hi = Quantile(idepths, 0.95);
   const auto put = [&](int x, int y, Rgb8 c) {
     if (x >= 0 && y >= 0 && x < picture.width() && y < picture.height()) picture(x, y) = c;

@@ -165,6 +165,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["latency_ms"] = {{"median", latency["median"]}, {"p90", latency["p90"]}, {"max", latency["max"]}};
   summary.stats["keyframe_queue_max"] = s.keyframe_queue_max;
   summary.stats["keyframe_waits"] = s.keyframe_waits;
+  summary.stats["pyramids_rebuilt"] = s.pyramids_rebuilt;
+  summary.stats["pyramids_loaded_max"] = s.pyramids_loaded_max;
   summary.stats["processing_s"] = process_s;
   summary.stats["frames_per_second"] = fps;
   if (recording_s > 0.0) {

@@ -32,6 +32,9 @@ struct SystemOptions {
   bool wait_for_mapping = true;
   int pyramid_levels = 5;          // Image pyramid (the undistorted size divides by 2^(levels-1)).
   int max_initialization_frames = 40;  // Frames on one initialiser reference before it restarts.
+  // A keyframe's pyramid is released when no mapping step used it in the last this many keyframes
+  // (the compact image stays; Map::LoadPyramids rebuilds it).
+  int keep_pyramid_keyframes = 2;
   InitializerOptions initializer;
   TrackerOptions tracker;
   CandidateSelectorOptions candidates;

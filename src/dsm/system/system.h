@@ -76,6 +76,8 @@ struct SystemStats {
   double global_ba_ms = -1.0;       // -1: not run.
   int keyframe_queue_max = 0;       // Most keyframes handed to the mapping side and not yet mapped.
   int keyframe_waits = 0;           // Frames whose tracking waited for a keyframe to be mapped.
+  int pyramids_rebuilt = 0;         // Keyframe pyramids rebuilt after they were released (Map).
+  int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };
 
 class System {
@@ -161,7 +163,7 @@ class System {
   void ActivateCandidates(int newest);
   // Per point of `ids`: 1 when it projects into `target` and looks consistent there
   // (observation_check.h), or is hosted there.
-  std::vector<uint8_t> SeenIn(const std::vector<int>& ids, int target) const;
+  std::vector<uint8_t> SeenIn(const std::vector<int>& ids, int target);
   int CullPoints();  // Returns how many it removed.
   void SelectCandidates(int kf);
   void PublishTrackingReference();

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/map/map.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace dsm {
+namespace {
+
+std::unique_ptr<Keyframe> MakeKeyframe(float phase) {
+  Image<float> image(32, 16);
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) image(x, y) = 120.f + 100.f * std::sin(0.37f * x + phase) * std::cos(0.21f * y);
+  auto kf = std::make_unique<Keyframe>();
+  kf->pyramid = std::make_shared<const ImagePyramid>(image, 3);
+  return kf;
+}
+
+// Released pyramids are rebuilt from the compact image within its 1/64 grey level quantisation;
+// the ones used in the last epochs stay; points keep their own host patch throughout.
+TEST(Map, ReleasesUnusedPyramidsAndRebuildsThemFromTheCompactImage) {
+  Map map;
+  for (int k = 0; k < 3; ++k) map.AddKeyframe(MakeKeyframe(0.5f * k));
+  const ImagePyramid original = map.keyframe(0).Pyramid();
+  Point p;
+  p.host = 0;
+  p.pixel = Eigen::Vector2f(10.f, 7.f);
+  const int pid = map.AddPoint(p);
+  ASSERT_TRUE(map.point(pid).patch_ok);
+  const HostPatch patch = map.point(pid).patch;
+
+  EXPECT_EQ(map.ReleaseUnusedPyramids(2), 0);  // All made in this epoch.
+  EXPECT_EQ(map.LoadPyramids({2}), 0);          // Loaded: only marked used.
+  EXPECT_EQ(map.ReleaseUnusedPyramids(2), 0);
+  EXPECT_EQ(map.ReleaseUnusedPyramids(2), 2);   // 0 and 1 unused for two epochs; 2 used one ago.
+  EXPECT_EQ(map.NumLoadedPyramids(), 1);
+  EXPECT_EQ(map.keyframe(0).pyramid, nullptr);
+  EXPECT_EQ(map.point(pid).patch.value, patch.value);
+
+  EXPECT_EQ(map.LoadPyramids({0, 0, 1}), 2);
+  EXPECT_EQ(map.NumLoadedPyramids(), 3);
+  const ImagePyramid& rebuilt = map.keyframe(0).Pyramid();
+  ASSERT_EQ(rebuilt.levels(), original.levels());
+  for (int l = 0; l < rebuilt.levels(); ++l)
+    for (int y = 0; y < rebuilt.height(l); ++y)
+      for (int x = 0; x < rebuilt.width(l); ++x) {
+        EXPECT_NEAR(rebuilt.level(l)(x, y)[0], original.level(l)(x, y)[0], 1.f / 128.f);
+        // Central differences: half the difference of two values; one-sided at the border.
+        EXPECT_NEAR(rebuilt.level(l)(x, y)[1], original.level(l)(x, y)[1], 1.f / 64.f);
+      }
+  EXPECT_NEAR(map.keyframe(1).Intensity(5, 5), map.keyframe(1).Pyramid().level(0)(5, 5)[0], 1e-6f);
+}
+
+}  // namespace
+}  // namespace dsm
