@@ -12,16 +12,16 @@ namespace dsm {
 
 Keyframe& Map::AddKeyframe(std::unique_ptr<Keyframe> keyframe) {
   keyframe->id = NumKeyframes();
-  if (keyframe->pyramid == nullptr) {  // Geometry only (tests of window selection).
-    keyframes_.push_back(std::move(keyframe));
-    return *keyframes_.back();
-  }
-  const Image<PixelGrad>& level0 = keyframe->pyramid->level(0);
-  keyframe->image = Image<uint16_t>(level0.width(), level0.height());
-  for (size_t i = 0; i < level0.size(); ++i)
-    keyframe->image.data()[i] = static_cast<uint16_t>(std::lround(std::clamp(level0.data()[i][0] * 64.f, 0.f, 65535.f)));
-  keyframe->pyramid_levels = keyframe->pyramid->levels();
   keyframe->pyramid_used = epoch_;
+  if (keyframe->pyramid != nullptr) {  // Without one: geometry only (tests of window selection).
+    const Image<PixelGrad>& level0 = keyframe->pyramid->level(0);
+    keyframe->image = Image<uint16_t>(level0.width(), level0.height());
+    for (size_t i = 0; i < level0.size(); ++i) {
+      const float v = std::clamp(level0.data()[i][0] * Keyframe::kImageScale, 0.f, 65535.f);
+      keyframe->image.data()[i] = static_cast<uint16_t>(std::lround(v));
+    }
+    keyframe->pyramid_levels = keyframe->pyramid->levels();
+  }
   keyframes_.push_back(std::move(keyframe));
   return *keyframes_.back();
 }
@@ -40,16 +40,17 @@ int Map::LoadPyramids(const std::vector<int>& ids) {
   std::vector<Keyframe*> missing;
   for (int id : ids) {
     Keyframe& kf = *keyframes_[id];
-    if (kf.pyramid == nullptr && (missing.empty() || std::find(missing.begin(), missing.end(), &kf) == missing.end()))
-      missing.push_back(&kf);
+    if (kf.pyramid == nullptr && std::find(missing.begin(), missing.end(), &kf) == missing.end()) missing.push_back(&kf);
     kf.pyramid_used = epoch_;
   }
   tbb::parallel_for(size_t{0}, missing.size(), [&](size_t i) {
     Keyframe& kf = *missing[i];
     Image<float> image(kf.image.width(), kf.image.height());
-    for (size_t p = 0; p < image.size(); ++p) image.data()[p] = kf.image.data()[p] * (1.f / 64.f);
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) image(x, y) = kf.Intensity(x, y);
     kf.pyramid = std::make_shared<const ImagePyramid>(image, kf.pyramid_levels);
   });
+  pyramids_rebuilt_ += static_cast<int>(missing.size());
   return static_cast<int>(missing.size());
 }
 

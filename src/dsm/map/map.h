@@ -60,8 +60,9 @@ struct Keyframe {
   // Map::ReleaseUnusedPyramids dropped it. Shared with whoever still reads it (the tracking
   // thread holds its reference keyframe's).
   std::shared_ptr<const ImagePyramid> pyramid;
-  // Level-0 intensities in fixed point (1/64 grey level, 0..1023.98): 2 bytes a pixel instead of
-  // the pyramid's ~16. A released pyramid is rebuilt from it.
+  // Level-0 intensities in fixed point (1/kImageScale grey level, 0..1023.98): 2 bytes a pixel
+  // instead of the pyramid's ~16. A released pyramid is rebuilt from it.
+  static constexpr float kImageScale = 64.f;
   Image<uint16_t> image;
   int pyramid_levels = 0;
   int pyramid_used = 0;  // Map epoch of its last use.
@@ -72,7 +73,7 @@ struct Keyframe {
     DSM_CHECK(pyramid != nullptr, "keyframe pyramid used without Map::LoadPyramids");
     return *pyramid;
   }
-  float Intensity(int x, int y) const { return image(x, y) * (1.f / 64.f); }
+  float Intensity(int x, int y) const { return image(x, y) * (1.f / kImageScale); }
   SE3d WorldFromCam() const { return cam_from_world.Inverse(); }
   Eigen::Vector3d Centre() const { return WorldFromCam().Translation(); }
 };
@@ -98,9 +99,10 @@ class Map {
   int LoadPyramids(const std::vector<int>& ids);
   int ReleaseUnusedPyramids(int keep_epochs);
   int NumLoadedPyramids() const;
+  int NumPyramidsRebuilt() const { return pyramids_rebuilt_; }  // By LoadPyramids, in all.
 
  private:
-  int epoch_ = 0;
+  int epoch_ = 0, pyramids_rebuilt_ = 0;
   std::vector<std::unique_ptr<Keyframe>> keyframes_;
   std::vector<Point> points_;
 };

@@ -40,6 +40,7 @@ TEST(Map, ReleasesUnusedPyramidsAndRebuildsThemFromTheCompactImage) {
 
   EXPECT_EQ(map.LoadPyramids({0, 0, 1}), 2);
   EXPECT_EQ(map.NumLoadedPyramids(), 3);
+  EXPECT_EQ(map.NumPyramidsRebuilt(), 2);
   const ImagePyramid& rebuilt = map.keyframe(0).Pyramid();
   ASSERT_EQ(rebuilt.levels(), original.levels());
   for (int l = 0; l < rebuilt.levels(); ++l)

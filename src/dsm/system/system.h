@@ -17,7 +17,8 @@
 // handed over (frame pyramid, pose relative to its reference keyframe, brightness) and the
 // published tracking reference (TrackingReference, an immutable snapshot). While a keyframe is
 // still being mapped the tracking side goes on against the older reference; when it wants another
-// keyframe meanwhile, it waits for the pending one first (at most one keyframe in flight).
+// keyframe meanwhile, it waits for the pending one first (SystemOptions::wait_for_mapping) or makes
+// it once the pending one is mapped: at most one keyframe is in flight.
 #pragma once
 
 #include <map>

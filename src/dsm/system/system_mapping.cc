@@ -64,7 +64,7 @@ std::vector<int> System::ActivePointIds() const {
 
 void System::MapNewKeyframe(int kf) {
   stats_.per_keyframe.push_back({map_.keyframe(kf).frame_index, 0, 0, {}});
-  stats_.pyramids_rebuilt += map_.LoadPyramids(window_);
+  map_.LoadPyramids(window_);
   // Observations of the temporal window's points in the new keyframe, unless a nearer part of the
   // map hides them there (the PBA verifies the rest).
   OcclusionGrid occlusion(camera_.width, camera_.height, options_.occlusion);
@@ -104,6 +104,7 @@ void System::MapNewKeyframe(int kf) {
   // Keyframes keep their pyramids while a recent mapping step used them.
   map_.ReleaseUnusedPyramids(options_.keep_pyramid_keyframes);
   stats_.pyramids_loaded_max = std::max(stats_.pyramids_loaded_max, map_.NumLoadedPyramids());
+  stats_.pyramids_rebuilt = map_.NumPyramidsRebuilt();
 }
 
 void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const {
@@ -156,7 +157,7 @@ void System::RunGlobalBundleAdjustment() {
 }
 
 std::vector<uint8_t> System::SeenIn(const std::vector<int>& ids, int target) {
-  stats_.pyramids_rebuilt += map_.LoadPyramids({target});  // The hosts' side is the points' own patch.
+  map_.LoadPyramids({target});  // The hosts' side is the points' own patch.
   const Keyframe& keyframe = map_.keyframe(target);
   std::vector<uint8_t> seen(ids.size(), 0);
   tbb::parallel_for(size_t{0}, ids.size(), [&](size_t i) {
