@@ -1,22 +1,47 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/image/pyramid.h"
 
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
 namespace dsm {
 
 namespace {
 
-Image<PixelGrad> WithGradients(const Image<float>& img) {
+// Level l+1: the mean of each 2 x 2 block of level l.
+Image<float> Half(const Image<float>& current) {
+  Image<float> half(current.width() / 2, current.height() / 2);
+  for (int y = 0; y < half.height(); ++y) {
+    const float* r0 = current.Row(2 * y);
+    const float* r1 = current.Row(2 * y + 1);
+    float* out = half.Row(y);
+    for (int x = 0; x < half.width(); ++x) out[x] = 0.25f * (r0[2 * x] + r0[2 * x + 1] + r1[2 * x] + r1[2 * x + 1]);
+  }
+  return half;
+}
+
+uint16_t ToFixedValue(float v) {
+  return static_cast<uint16_t>(std::lround(std::clamp(v * ImagePyramid::kValueScale, 0.f, 65535.f)));
+}
+int16_t ToFixedGradient(float g) {
+  return static_cast<int16_t>(std::lround(std::clamp(g * ImagePyramid::kGradientScale, -32767.f, 32767.f)));
+}
+
+// (I, dI/dx, dI/dy) in fixed point, central differences (one-sided at the border).
+Image<PixelFixed> FixedWithGradients(const Image<float>& img) {
   const int w = img.width(), h = img.height();
-  Image<PixelGrad> out(w, h, PixelGrad::Zero());
+  Image<PixelFixed> out(w, h, PixelFixed{0, 0, 0});
   for (int y = 0; y < h; ++y) {
     const float* r = img.Row(y);
     const float* up = img.Row(y > 0 ? y - 1 : y);
     const float* down = img.Row(y < h - 1 ? y + 1 : y);
     const float sy = (y > 0 && y < h - 1) ? 0.5f : 1.f;
+    PixelFixed* o = out.Row(y);
     for (int x = 0; x < w; ++x) {
       const int xl = x > 0 ? x - 1 : x, xr = x < w - 1 ? x + 1 : x;
       const float sx = (x > 0 && x < w - 1) ? 0.5f : 1.f;
-      out(x, y) = PixelGrad(r[x], sx * (r[xr] - r[xl]), sy * (down[x] - up[x]));
+      o[x] = {ToFixedValue(r[x]), ToFixedGradient(sx * (r[xr] - r[xl])), ToFixedGradient(sy * (down[x] - up[x]))};
     }
   }
   return out;
@@ -24,23 +49,41 @@ Image<PixelGrad> WithGradients(const Image<float>& img) {
 
 }  // namespace
 
-ImagePyramid::ImagePyramid(const Image<float>& image, int levels) {
+ImagePyramid::ImagePyramid(Image<float> image, int levels, bool gradients) {
   DSM_CHECK(levels >= 1, "a pyramid needs at least one level");
   const int div = 1 << (levels - 1);
   DSM_CHECK(image.width() % div == 0 && image.height() % div == 0, "image size must divide by 2^(levels-1)");
-  Image<float> current = image;
+  values_.reserve(levels);
+  values_.push_back(std::move(image));
+  for (int l = 1; l < levels; ++l) values_.push_back(Half(values_.back()));
+  if (gradients) *this = WithGradients();
+}
+
+ImagePyramid ImagePyramid::FromFixed(const Image<uint16_t>& level0, int levels) {
+  // Every level from the fixed-point level 0 (exact in float), so that a rebuild is the original.
+  Image<float> current(level0.width(), level0.height());
+  for (size_t i = 0; i < level0.size(); ++i) current.data()[i] = level0.data()[i] * (1.f / kValueScale);
+  ImagePyramid out;
   for (int l = 0; l < levels; ++l) {
-    levels_.push_back(WithGradients(current));
-    if (l + 1 == levels) break;
-    Image<float> half(current.width() / 2, current.height() / 2);
-    for (int y = 0; y < half.height(); ++y) {
-      const float* r0 = current.Row(2 * y);
-      const float* r1 = current.Row(2 * y + 1);
-      float* out = half.Row(y);
-      for (int x = 0; x < half.width(); ++x) out[x] = 0.25f * (r0[2 * x] + r0[2 * x + 1] + r1[2 * x] + r1[2 * x + 1]);
-    }
-    current = std::move(half);
+    out.fixed_.push_back(FixedWithGradients(current));
+    if (l + 1 < levels) current = Half(current);
   }
+  return out;
+}
+
+ImagePyramid ImagePyramid::WithGradients() const {
+  if (HasGradients()) return *this;
+  const Image<float>& v = values_[0];
+  Image<uint16_t> level0(v.width(), v.height());
+  for (size_t i = 0; i < v.size(); ++i) level0.data()[i] = ToFixedValue(v.data()[i]);
+  return FromFixed(level0, levels());
+}
+
+Image<uint16_t> ImagePyramid::FixedLevel0() const {
+  const Image<PixelFixed>& l0 = fixed_[0];
+  Image<uint16_t> out(l0.width(), l0.height());
+  for (size_t i = 0; i < l0.size(); ++i) out.data()[i] = l0.data()[i].value;
+  return out;
 }
 
 }  // namespace dsm

@@ -15,12 +15,35 @@ TEST(ImagePyramid, LevelsAverageAndGradientsAreCentralDifferences) {
   const ImagePyramid pyr(img, 3);
   ASSERT_EQ(pyr.levels(), 3);
   EXPECT_EQ(pyr.width(2), 4);
-  EXPECT_FLOAT_EQ(pyr.level(0)(5, 3)[1], 2.f);
-  EXPECT_FLOAT_EQ(pyr.level(0)(5, 3)[2], 0.5f * 3.f * (16 - 4));
+  EXPECT_FLOAT_EQ(pyr.At(0, 5, 3)[1], 2.f);
+  EXPECT_FLOAT_EQ(pyr.At(0, 5, 3)[2], 0.5f * 3.f * (16 - 4));
   // Level 1 pixel (2, 1) averages level-0 pixels x 4..5, y 2..3.
-  EXPECT_FLOAT_EQ(pyr.level(1)(2, 1)[0], 0.25f * (8 + 10 + 8 + 10) + 0.25f * 3.f * (4 + 4 + 9 + 9));
+  EXPECT_FLOAT_EQ(pyr.At(1, 2, 1)[0], 0.25f * (8 + 10 + 8 + 10) + 0.25f * 3.f * (4 + 4 + 9 + 9));
   // Bilinear sample of a linear-in-x image is exact.
   EXPECT_NEAR(pyr.Sample(0, 5.25f, 3.f)[0], 2.f * 5.25f + 27.f, 1e-4);
+}
+
+// Full pyramids hold 1/64 grey levels and 1/32 gradient steps; a frame's intensity-only pyramid
+// keeps the floats, and WithGradients gives the same full pyramid as building it at once.
+TEST(ImagePyramid, FixedPointFullPyramidAndIntensityOnlyFrames) {
+  Image<float> img(16, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x) img(x, y) = 100.f + 0.3f * x * x + std::sin(1.7f * y);
+  const ImagePyramid full(img, 2);
+  const ImagePyramid frame(img, 2, /*gradients=*/false);
+  EXPECT_TRUE(full.HasGradients());
+  EXPECT_FALSE(frame.HasGradients());
+  EXPECT_EQ(frame.Value(0, 7, 3), img(7, 3));
+  EXPECT_NEAR(full.Value(0, 7, 3), img(7, 3), 0.5f / 64.f);
+  EXPECT_NEAR(full.At(0, 7, 3)[1], 0.5f * (img(8, 3) - img(6, 3)), 1.f / 64.f + 0.5f / 32.f);
+  EXPECT_NEAR(frame.SampleValue(0, 7.5f, 3.25f), full.SampleValue(0, 7.5f, 3.25f), 1.f / 64.f);
+  const ImagePyramid promoted = frame.WithGradients();
+  for (int l = 0; l < 2; ++l)
+    for (int y = 0; y < full.height(l); ++y)
+      for (int x = 0; x < full.width(l); ++x) ASSERT_EQ(promoted.At(l, x, y), full.At(l, x, y));
+  // Beyond the fixed-point range: clamped, not wrapped.
+  Image<float> bright(4, 4, 2000.f);
+  EXPECT_NEAR(ImagePyramid(bright, 1).Value(0, 1, 1), 65535.f / 64.f, 1e-3f);
 }
 
 }  // namespace

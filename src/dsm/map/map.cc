@@ -14,12 +14,8 @@ Keyframe& Map::AddKeyframe(std::unique_ptr<Keyframe> keyframe) {
   keyframe->id = NumKeyframes();
   keyframe->pyramid_used = epoch_;
   if (keyframe->pyramid != nullptr) {  // Without one: geometry only (tests of window selection).
-    const Image<PixelGrad>& level0 = keyframe->pyramid->level(0);
-    keyframe->image = Image<uint16_t>(level0.width(), level0.height());
-    for (size_t i = 0; i < level0.size(); ++i) {
-      const float v = std::clamp(level0.data()[i][0] * Keyframe::kImageScale, 0.f, 65535.f);
-      keyframe->image.data()[i] = static_cast<uint16_t>(std::lround(v));
-    }
+    DSM_CHECK(keyframe->pyramid->HasGradients(), "a keyframe needs a full pyramid");
+    keyframe->image = keyframe->pyramid->FixedLevel0();
     keyframe->pyramid_levels = keyframe->pyramid->levels();
   }
   keyframes_.push_back(std::move(keyframe));
@@ -45,10 +41,7 @@ int Map::LoadPyramids(const std::vector<int>& ids) {
   }
   tbb::parallel_for(size_t{0}, missing.size(), [&](size_t i) {
     Keyframe& kf = *missing[i];
-    Image<float> image(kf.image.width(), kf.image.height());
-    for (int y = 0; y < image.height(); ++y)
-      for (int x = 0; x < image.width(); ++x) image(x, y) = kf.Intensity(x, y);
-    kf.pyramid = std::make_shared<const ImagePyramid>(image, kf.pyramid_levels);
+    kf.pyramid = std::make_shared<const ImagePyramid>(ImagePyramid::FromFixed(kf.image, kf.pyramid_levels));
   });
   pyramids_rebuilt_ += static_cast<int>(missing.size());
   return static_cast<int>(missing.size());

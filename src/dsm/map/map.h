@@ -60,9 +60,8 @@ struct Keyframe {
   // Map::ReleaseUnusedPyramids dropped it. Shared with whoever still reads it (the tracking
   // thread holds its reference keyframe's).
   std::shared_ptr<const ImagePyramid> pyramid;
-  // Level-0 intensities in fixed point (1/kImageScale grey level, 0..1023.98): 2 bytes a pixel
-  // instead of the pyramid's ~16. A released pyramid is rebuilt from it.
-  static constexpr float kImageScale = 64.f;
+  // Level-0 intensities in fixed point (ImagePyramid::kValueScale): 2 bytes a pixel instead of
+  // the pyramid's ~8. A released pyramid is rebuilt from it, exactly (ImagePyramid::FromFixed).
   Image<uint16_t> image;
   int pyramid_levels = 0;
   int pyramid_used = 0;  // Map epoch of its last use.
@@ -73,7 +72,7 @@ struct Keyframe {
     DSM_CHECK(pyramid != nullptr, "keyframe pyramid used without Map::LoadPyramids");
     return *pyramid;
   }
-  float Intensity(int x, int y) const { return image(x, y) * (1.f / kImageScale); }
+  float Intensity(int x, int y) const { return image(x, y) * (1.f / ImagePyramid::kValueScale); }
   SE3d WorldFromCam() const { return cam_from_world.Inverse(); }
   Eigen::Vector3d Centre() const { return WorldFromCam().Translation(); }
 };

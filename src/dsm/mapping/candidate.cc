@@ -105,9 +105,13 @@ TraceStatus TraceCandidate(Candidate* c, const ImagePyramid& frame, const Pinhol
         ok = false;
         break;
       }
-      const PixelGrad p = frame.Sample(0, x, y);
-      const float r = (c->value[k] - tr.b_host) - tr.s * (p[0] - tr.b_frame);
-      const float J = -tr.s * (p[1] * dir.x() + p[2] * dir.y());
+      // The gradient of the interpolated image by central differences (the frame's pyramid has
+      // no gradient planes; inside the border it equals the interpolated central differences).
+      const float value = frame.SampleValue(0, x, y);
+      const float gx = 0.5f * (frame.SampleValue(0, x + 1.f, y) - frame.SampleValue(0, x - 1.f, y));
+      const float gy = 0.5f * (frame.SampleValue(0, x, y + 1.f) - frame.SampleValue(0, x, y - 1.f));
+      const float r = (c->value[k] - tr.b_host) - tr.s * (value - tr.b_frame);
+      const float J = -tr.s * (gx * dir.x() + gy * dir.y());
       const float w = std::abs(r) < 9.f ? 1.f : 9.f / std::abs(r);
       H += w * J * J;
       g += w * J * r;

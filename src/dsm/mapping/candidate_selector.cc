@@ -23,8 +23,8 @@ constexpr int kBlock = 32;
 // |N * I| at (x, y) with the noise kernel N = [1 -2 1; -2 4 -2; 1 -2 1]: N annihilates constant
 // and linear intensity (and most smooth shading), so on a block without strong edges its response
 // is image noise, with standard deviation 6 sigma (sum of N's squared entries: 36).
-float NoiseResponse(const Image<PixelGrad>& l0, int x, int y) {
-  const auto I = [&](int u, int v) { return l0(u, v)[0]; };
+float NoiseResponse(const ImagePyramid& image, int x, int y) {
+  const auto I = [&](int u, int v) { return image.At(0, u, v)[0]; };
   return std::abs(I(x - 1, y - 1) - 2.f * I(x, y - 1) + I(x + 1, y - 1) - 2.f * I(x - 1, y) + 4.f * I(x, y) -
                   2.f * I(x + 1, y) + I(x - 1, y + 1) - 2.f * I(x, y + 1) + I(x + 1, y + 1));
 }
@@ -50,8 +50,8 @@ Image<float> SmoothBlocks(const Image<float>& raw) {
 
 }  // namespace
 
-BlockThresholds ComputeBlockThresholds(const Image<PixelGrad>& level0, const CandidateSelectorOptions& options) {
-  const int w = level0.width(), h = level0.height();
+BlockThresholds ComputeBlockThresholds(const ImagePyramid& image, const CandidateSelectorOptions& options) {
+  const int w = image.width(0), h = image.height(0);
   const int bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
   Image<float> select(bw, bh), noise(bw, bh);
   std::vector<float> g, n;
@@ -61,9 +61,8 @@ BlockThresholds ComputeBlockThresholds(const Image<PixelGrad>& level0, const Can
       n.clear();
       for (int y = by * kBlock; y < std::min(h, (by + 1) * kBlock); ++y)
         for (int x = bx * kBlock; x < std::min(w, (bx + 1) * kBlock); ++x) {
-          const PixelGrad& p = level0(x, y);
-          g.push_back(std::sqrt(p[1] * p[1] + p[2] * p[2]));
-          if (x > 0 && y > 0 && x < w - 1 && y < h - 1) n.push_back(NoiseResponse(level0, x, y));
+          g.push_back(image.At(0, x, y).tail<2>().norm());
+          if (x > 0 && y > 0 && x < w - 1 && y < h - 1) n.push_back(NoiseResponse(image, x, y));
         }
       select(bx, by) = Median(g) + options.threshold_margin;
       // sigma = median |N * I| / (6 * 0.6745) (the median of a half-normal is 0.6745 sigma).
@@ -90,8 +89,7 @@ namespace {
 std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const BlockThresholds& thresholds, int step,
                                           int border, const Image<uint8_t>* mask) {
   std::vector<SelectedPixel> out;
-  const Image<PixelGrad>& l0 = image.level(0);
-  const int w = l0.width(), h = l0.height();
+  const int w = image.width(0), h = image.height(0);
   for (int cy = border; cy < h - border; cy += step) {
     for (int cx = border; cx < w - border; cx += step) {
       // Level 0: the strongest pixel above its block threshold; else a weaker one (coarser detail).
@@ -100,8 +98,7 @@ std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const Block
       for (int y = cy; y < std::min(cy + step, h - border); ++y) {
         for (int x = cx; x < std::min(cx + step, w - border); ++x) {
           if (mask && !(*mask)(x, y)) continue;
-          const PixelGrad& p = l0(x, y);
-          const float g = std::sqrt(p[1] * p[1] + p[2] * p[2]);
+          const float g = image.At(0, x, y).tail<2>().norm();
           const int bx = x / kBlock, by = y / kBlock;
           const float thr = thresholds.select(bx, by);
           if (g > thr && g > best) best = g, best_px = Eigen::Vector2f(x, y);
@@ -123,7 +120,7 @@ std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const Block
 
 std::vector<SelectedPixel> SelectCandidates(const ImagePyramid& image, const CandidateSelectorOptions& options,
                                             const Image<uint8_t>* valid_mask) {
-  const BlockThresholds thresholds = ComputeBlockThresholds(image.level(0), options);
+  const BlockThresholds thresholds = ComputeBlockThresholds(image, options);
   // Start from the step that would give the target on a fully textured image, then adapt.
   const double area = static_cast<double>(image.width(0)) * image.height(0);
   double step = std::max(2.0, std::sqrt(area / options.target_count));

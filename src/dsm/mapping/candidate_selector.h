@@ -42,7 +42,7 @@ struct SelectedPixel {
 struct BlockThresholds {
   Image<float> select, floor, noise_sigma;
 };
-BlockThresholds ComputeBlockThresholds(const Image<PixelGrad>& level0, const CandidateSelectorOptions& options);
+BlockThresholds ComputeBlockThresholds(const ImagePyramid& image, const CandidateSelectorOptions& options);
 
 std::vector<SelectedPixel> SelectCandidates(const ImagePyramid& image, const CandidateSelectorOptions& options,
                                             const Image<uint8_t>* valid_mask = nullptr);

@@ -69,7 +69,7 @@ Image<float> HalfFlatHalfTextured(float sigma, uint32_t seed) {
 TEST(CandidateSelector, EstimatesTheNoiseOfFlatBlocks) {
   for (const float sigma : {1.f, 3.f, 6.f}) {
     const ImagePyramid pyramid(HalfFlatHalfTextured(sigma, 7), 4);
-    const BlockThresholds t = ComputeBlockThresholds(pyramid.level(0), CandidateSelectorOptions{});
+    const BlockThresholds t = ComputeBlockThresholds(pyramid, CandidateSelectorOptions{});
     // Block column 2 (x 64..95) and its neighbours lie in the flat half.
     for (int by = 1; by < t.noise_sigma.height() - 1; ++by) EXPECT_NEAR(t.noise_sigma(2, by), sigma, 0.12 * sigma) << by;
   }

@@ -29,10 +29,11 @@ TEST(LooksConsistent, TruePosesAndDepthsMatchAndAnotherImageDoesNot) {
   // Keyframe 2 now shows something else where the points are (a mirrored image: what a new
   // occluder in front of them would do).
   Keyframe& kf = w.map.keyframe(2);
-  const Image<PixelGrad>& level0 = kf.Pyramid().level(0);
-  Image<float> mirrored(level0.width(), level0.height());
-  for (int y = 0; y < level0.height(); ++y)
-    for (int x = 0; x < level0.width(); ++x) mirrored(x, y) = level0(level0.width() - 1 - x, y)[0];
+  const ImagePyramid& original = kf.Pyramid();
+  const int width = original.width(0);
+  Image<float> mirrored(width, original.height(0));
+  for (int y = 0; y < mirrored.height(); ++y)
+    for (int x = 0; x < width; ++x) mirrored(x, y) = original.Value(0, width - 1 - x, y);
   kf.pyramid = std::make_shared<const ImagePyramid>(mirrored, kf.Pyramid().levels());
   EXPECT_LT(ConsistentShare(w, 2), 0.3);
 }

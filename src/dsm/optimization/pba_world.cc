@@ -31,7 +31,7 @@ void BuildWorld(const std::vector<int>& frames, World* w, int stride, double blu
     const Keyframe& kf = w->map.keyframe(host);
     for (int y = 8; y < height - 8; y += stride) {
       for (int x = 8; x < width - 8; x += stride) {
-        const PixelGrad g = kf.Pyramid().level(0)(x, y);
+        const PixelGrad g = kf.Pyramid().At(0, x, y);
         if (g[1] * g[1] + g[2] * g[2] < 100.f || !(depths[host](x, y) > 0.f)) continue;
         Point p;
         p.host = host;

@@ -42,7 +42,9 @@ void System::CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const Image
   kf->cam_from_world = cam_from_world;
   kf->affine = affine;
   kf->exposure = exposure;
-  kf->pyramid = std::move(pyramid);
+  // A tracked frame's pyramid holds intensities only; a keyframe's needs the gradients.
+  kf->pyramid = pyramid->HasGradients() ? std::move(pyramid)
+                                        : std::make_shared<const ImagePyramid>(pyramid->WithGradients());
   kf->error_model = DefaultErrorModel(options_.pba.robust);
   map_.AddKeyframe(std::move(kf));
   ++stats_.keyframes;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/tracking/frame_tracker.h"
 
+#include <array>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -45,91 +46,168 @@ void FrameTracker::SetReference(const ImagePyramid* keyframe, const PinholeCamer
         if (l >= kFirstCentreOnlyLevel && !centre) continue;
         const float x = c.x() + kPattern[k][0], y = c.y() + kPattern[k][1];
         if (!keyframe->InBounds(l, x, y, 1.f)) continue;
-        const PixelGrad g = keyframe->Sample(l, x, y);
-        LevelPoint lp;
-        lp.q = Eigen::Vector3f((x - cx) / fx, (y - cy) / fy, 1.f);
-        lp.idepth = rho;
-        lp.ref_value = g[0];
-        lp.grad_weight = GradientWeight(g[1] * g[1] + g[2] * g[2]);
+        const PixelGrad grad = keyframe->Sample(l, x, y);
+        const Eigen::Vector3f q((x - cx) / fx, (y - cy) / fy, 1.f);
+        const float w_g = GradientWeight(grad[1] * grad[1] + grad[2] * grad[2]);
         // d = J_pi^T grad at p = q / rho:  J_pi = [fx rho, 0, -fx qx rho; 0, fy rho, -fy qy rho]
-        const Eigen::Vector3f d(g[1] * fx * rho, g[2] * fy * rho, -(g[1] * fx * lp.q.x() + g[2] * fy * lp.q.y()) * rho);
-        const Eigen::Vector3f p = lp.q / rho;
+        const Eigen::Vector3f d(grad[1] * fx * rho, grad[2] * fy * rho,
+                                -(grad[1] * fx * q.x() + grad[2] * fy * q.y()) * rho);
+        const Eigen::Vector3f p = q / rho;
         // Rotation part (p x d), written out: GCC 12 misreads Eigen's SSE cross product bounds.
-        lp.J_geo << d.x(), d.y(), d.z(), p.y() * d.z() - p.z() * d.y(), p.z() * d.x() - p.x() * d.z(),
-            p.x() * d.y() - p.y() * d.x();
-        level.points.push_back(lp);
-        level.owner.push_back(static_cast<int>(i));
+        Vector8f g;
+        g << d.x(), d.y(), d.z(), p.y() * d.z() - p.z() * d.y(), p.z() * d.x() - p.x() * d.z(),
+            p.x() * d.y() - p.y() * d.x(), grad[0], 1.f;
+        level.qx.push_back(q.x());
+        level.qy.push_back(q.y());
+        level.idepth.push_back(rho);
+        level.ref_value.push_back(grad[0]);
+        level.grad_weight.push_back(w_g);
+        level.sqrt_grad_weight.push_back(std::sqrt(w_g));
+        level.g.push_back(g);
       }
     }
   }
 }
 
-FrameTracker::Accumulated FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, double alpha,
-                                                 double beta, const ErrorModel& model, bool jacobians,
-                                                 std::vector<float>* residuals) const {
+namespace {
+
+// Work split of the per-pixel loops: fixed, so that the sums do not depend on the threads.
+constexpr size_t kChunk = 2048;
+size_t NumChunks(size_t n) { return (n + kChunk - 1) / kChunk; }
+
+}  // namespace
+
+void FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, double alpha, double beta,
+                            Residuals* out) const {
   const LevelData& level = levels_[l];
   const Eigen::Matrix3f R = T.Rotation().cast<float>();
   const Eigen::Vector3f t = T.Translation().cast<float>();
   const float fx = static_cast<float>(level.camera.fx), fy = static_cast<float>(level.camera.fy);
   const float cx = static_cast<float>(level.camera.cx), cy = static_cast<float>(level.camera.cy);
   const float ea = static_cast<float>(std::exp(alpha)), fb = static_cast<float>(beta);
-  // Pass 1, in parallel: projection, sampling and robust energy per pixel (the memory-bound part).
-  // Pass 2, in pixel order: the sums, exactly those of a sequential loop whatever the threads.
-  struct PixelResult {
-    bool valid = false;
-    float r = 0.f;
-    double rw = 0.0, energy = 0.0;
-  };
-  const size_t n = level.points.size();
-  std::vector<PixelResult> pixels(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& range) {
-    for (size_t i = range.begin(); i < range.end(); ++i) {
-      const LevelPoint& lp = level.points[i];
-      const Eigen::Vector3f p = R * lp.q + t * lp.idepth;
-      if (!(p.z() > 1e-6f)) continue;
-      const float u = fx * p.x() / p.z() + cx, v = fy * p.y() / p.z() + cy;
-      if (!frame.InBounds(l, u, v, 2.f)) continue;
-      PixelResult& out = pixels[i];
-      out.valid = true;
-      out.r = frame.SampleValue(l, u, v) - ea * lp.ref_value - fb;
-      out.rw = std::sqrt(lp.grad_weight) * out.r;
-      out.energy = model.Energy(out.rw);
+  // Bilinear sampling 2 px inside the frame: x in [2, width - 3).
+  const float lo = 2.f, x_hi = frame.width(l) - 3.f, y_hi = frame.height(l) - 3.f;
+  const size_t n = level.qx.size();
+  out->r.resize(n);
+  out->valid.resize(n);
+  out->u.resize(n);
+  out->v.resize(n);
+  const auto pass = [&](size_t begin, size_t end) {
+    const float *qx = level.qx.data(), *qy = level.qy.data(), *rho = level.idepth.data();
+    float *u = out->u.data(), *v = out->v.data(), *valid = out->valid.data(), *r = out->r.data();
+    // Projection, p = R q + t rho (q_z = 1), vectorised; out-of-view pixels go to (lo, lo).
+#pragma omp simd
+    for (size_t i = begin; i < end; ++i) {
+      const float px = R(0, 0) * qx[i] + R(0, 1) * qy[i] + R(0, 2) + t.x() * rho[i];
+      const float py = R(1, 0) * qx[i] + R(1, 1) * qy[i] + R(1, 2) + t.y() * rho[i];
+      const float pz = R(2, 0) * qx[i] + R(2, 1) * qy[i] + R(2, 2) + t.z() * rho[i];
+      const float iz = 1.f / pz;
+      const float ui = fx * px * iz + cx, vi = fy * py * iz + cy;
+      const bool ok = pz > 1e-6f && ui >= lo && vi >= lo && ui < x_hi && vi < y_hi;
+      valid[i] = ok ? 1.f : 0.f;
+      u[i] = ok ? ui : lo;
+      v[i] = ok ? vi : lo;
     }
-  });
-  Accumulated acc;
-  Eigen::Matrix<double, 8, 1> J;
-  for (size_t i = 0; i < n; ++i) {
-    const PixelResult& px = pixels[i];
-    if (!px.valid) continue;
-    const LevelPoint& lp = level.points[i];
-    if (residuals) residuals->push_back(static_cast<float>(px.rw));
-    acc.energy += px.energy;
-    acc.bad += model.IsOutlier(px.rw);
-    ++acc.valid;
-    if (!jacobians) continue;
-    const double w = lp.grad_weight * model.Weight(px.rw);
-    J << (-ea * lp.J_geo).cast<double>().transpose(), -ea * lp.ref_value, -1.0;
-    // Upper triangle only; mirrored after the loop.
-    for (int a = 0; a < 8; ++a) {
-      const double wja = w * J(a);
-      for (int b = a; b < 8; ++b) acc.H(a, b) += wja * J(b);
-      acc.b(a) += wja * px.r;
+    for (size_t i = begin; i < end; ++i)
+      r[i] = valid[i] * (frame.SampleValue(l, u[i], v[i]) - ea * level.ref_value[i] - fb);
+  };
+  if (n <= kChunk) return pass(0, n);
+  tbb::parallel_for(size_t{0}, NumChunks(n), [&](size_t c) { pass(c * kChunk, std::min(n, (c + 1) * kChunk)); });
+}
+
+FrameTracker::Energy FrameTracker::SumEnergy(int l, const Residuals& res, const ErrorModel& model) const {
+  const LevelData& level = levels_[l];
+  const size_t n = res.r.size();
+  const float* r = res.r.data();
+  const float* valid = res.valid.data();
+  const float* sw = level.sqrt_grad_weight.data();
+  const float threshold = static_cast<float>(model.inlier_threshold);
+  // Single-precision sums, vectorised (the order of a SIMD reduction is fixed for a build).
+  float energy = 0.f, sum_sq = 0.f, bad = 0.f, count = 0.f;
+  if (model.kind == RobustKind::kStudentT) {
+    // rho(rw) = (nu + 1)/2 log(1 + rw^2 / (nu sigma^2)): the logs summed, the factor applied once.
+    const float inv = static_cast<float>(1.0 / (model.nu * model.sigma * model.sigma));
+    const float t2 = threshold * threshold;
+#pragma omp simd reduction(+ : energy, sum_sq, bad, count)
+    for (size_t i = 0; i < n; ++i) {
+      const float rw = sw[i] * r[i], rw2 = rw * rw;
+      sum_sq += rw2;
+      energy += valid[i] * FastLog1p(rw2 * inv);
+      bad += valid[i] * (rw2 > t2 ? 1.f : 0.f);
+      count += valid[i];
+    }
+    energy *= static_cast<float>(0.5 * (model.nu + 1.0));
+  } else {
+    for (size_t i = 0; i < n; ++i) {
+      const float rw = sw[i] * r[i];
+      sum_sq += rw * rw;
+      energy += valid[i] * static_cast<float>(model.Energy(rw));
+      bad += valid[i] * (std::abs(rw) > threshold ? 1.f : 0.f);
+      count += valid[i];
     }
   }
-  acc.H.triangularView<Eigen::StrictlyLower>() = acc.H.transpose();
-  return acc;
+  Energy e;
+  e.energy = energy;
+  e.sum_sq = sum_sq;
+  e.valid = static_cast<int>(count);
+  e.bad = static_cast<int>(bad);
+  return e;
+}
+
+FrameTracker::System8 FrameTracker::SumSystem(int l, const Residuals& res, const ErrorModel& model,
+                                              double alpha) const {
+  const LevelData& level = levels_[l];
+  const size_t n = res.r.size();
+  // sum_k w_k g_k g_k^T and sum_k w_k g_k r_k per chunk, in single precision.
+  std::vector<Eigen::Matrix<float, 8, 8>, Eigen::aligned_allocator<Eigen::Matrix<float, 8, 8>>> H(NumChunks(n));
+  std::vector<Vector8f, Eigen::aligned_allocator<Vector8f>> b(NumChunks(n));
+  const bool t = model.kind == RobustKind::kStudentT;
+  const float nu1 = static_cast<float>(model.nu + 1.0), nus2 = static_cast<float>(model.nu * model.sigma * model.sigma);
+  const auto pass = [&](size_t c) {
+    Eigen::Matrix<float, 8, 8> Hc = Eigen::Matrix<float, 8, 8>::Zero();
+    Vector8f bc = Vector8f::Zero();
+    for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+      if (res.valid[i] == 0.f) continue;
+      const float r = res.r[i];
+      const float rw = level.sqrt_grad_weight[i] * r;
+      // w_g w_rho(sqrt(w_g) r); the t's weight (nu + 1) / (nu sigma^2 + r^2) in single precision.
+      const float w = level.grad_weight[i] * (t ? nu1 / (nus2 + rw * rw) : static_cast<float>(model.Weight(rw)));
+      const Vector8f wg = w * level.g[i];
+      Hc.noalias() += wg * level.g[i].transpose();
+      bc += wg * r;
+    }
+    H[c] = Hc;
+    b[c] = bc;
+  };
+  if (n <= kChunk) {
+    if (n > 0) pass(0);
+  } else {
+    tbb::parallel_for(size_t{0}, NumChunks(n), pass);
+  }
+  System8 sys;
+  for (size_t c = 0; c < H.size(); ++c) {
+    sys.H += H[c].cast<double>();
+    sys.b += b[c].cast<double>();
+  }
+  // H = D S D, b = -D s with D = diag(e^alpha (x7), 1).
+  Eigen::Matrix<double, 8, 1> D = Eigen::Matrix<double, 8, 1>::Constant(std::exp(alpha));
+  D(7) = 1.0;
+  sys.H = D.asDiagonal() * sys.H * D.asDiagonal();
+  sys.b = -(D.asDiagonal() * sys.b);
+  return sys;
 }
 
 double FrameTracker::CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const {
   const int l = static_cast<int>(levels_.size()) - 1;
-  const ErrorModel model = DefaultErrorModel(options_.robust);
-  const Accumulated acc = Evaluate(l, frame, guess, alpha, beta, model, false, nullptr);
-  if (acc.valid < 0.5 * levels_[l].points.size()) return std::numeric_limits<double>::infinity();
-  return acc.energy / acc.valid;
+  Residuals res;
+  Evaluate(l, frame, guess, alpha, beta, &res);
+  const Energy e = SumEnergy(l, res, DefaultErrorModel(options_.robust));
+  if (e.valid < 0.5 * levels_[l].qx.size()) return std::numeric_limits<double>::infinity();
+  return e.Mean();
 }
 
-TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess,
-                                double beta_guess) const {
+TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess,
+                                const std::vector<double>* abandon_above, double abandon_factor) const {
   TrackResult result;
   result.frame_from_keyframe = guess;
   result.alpha = alpha_guess;
@@ -141,31 +219,40 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
   SE3d T = guess;
   double alpha = alpha_guess, beta = beta_guess;
   ErrorModel model = DefaultErrorModel(options_.robust);
+  result.level_rmse.assign(levels_.size(), 0.0);
+  Residuals res, trial;
+  std::vector<float> weighted;
   for (int l = static_cast<int>(levels_.size()) - 1; l >= 0; --l) {
-    std::vector<float> residuals;
-    Evaluate(l, frame, T, alpha, beta, DefaultErrorModel(options_.robust), false, &residuals);
-    model = FitErrorModel(residuals, options_.robust);
-    Accumulated acc = Evaluate(l, frame, T, alpha, beta, model, true, nullptr);
+    const LevelData& level = levels_[l];
+    Evaluate(l, frame, T, alpha, beta, &res);
+    weighted.clear();
+    for (size_t i = 0; i < res.r.size(); ++i)
+      if (res.valid[i] != 0.f) weighted.push_back(level.sqrt_grad_weight[i] * res.r[i]);
+    model = FitErrorModel(weighted, options_.robust);
+    Energy energy = SumEnergy(l, res, model);
+    System8 sys = SumSystem(l, res, model, alpha);
     double lambda = 1e-3;
     for (int it = 0; it < options_.iterations[l]; ++it) {
       ++result.iterations;
-      if (acc.valid < 10) break;
-      Eigen::Matrix<double, 8, 8> H = acc.H;
+      if (energy.valid < 10) break;
+      Eigen::Matrix<double, 8, 8> H = sys.H;
       H.diagonal() *= (1.0 + lambda);
-      const Eigen::Matrix<double, 8, 1> delta = H.ldlt().solve(-acc.b);
+      const Eigen::Matrix<double, 8, 1> delta = H.ldlt().solve(-sys.b);
       if (!delta.allFinite()) break;
       const SE3d T_new = T * SE3d::Exp(delta.head<6>()).Inverse();
       const double alpha_new = alpha + delta(6), beta_new = beta + delta(7);
-      const double f = std::max(levels_[l].camera.fx, levels_[l].camera.fy);
+      const double f = std::max(level.camera.fx, level.camera.fy);
       const bool small = delta.segment<3>(3).norm() * f + delta.head<3>().norm() * f * mean_idepth_ <
                              options_.convergence_px &&
                          std::abs(delta(6)) < 1e-4;
-      const Accumulated next = Evaluate(l, frame, T_new, alpha_new, beta_new, model, true, nullptr);
+      Evaluate(l, frame, T_new, alpha_new, beta_new, &trial);
+      const Energy next = SumEnergy(l, trial, model);
       // Compare mean energies so that pixels leaving the image do not look like progress.
-      const bool better = next.valid > 0 && next.energy / next.valid < acc.energy / std::max(acc.valid, 1) &&
-                          next.valid >= 0.9 * acc.valid;
+      const bool better = next.valid > 0 && next.Mean() < energy.Mean() && next.valid >= 0.9 * energy.valid;
       if (better) {
-        T = T_new, alpha = alpha_new, beta = beta_new, acc = next;
+        T = T_new, alpha = alpha_new, beta = beta_new, energy = next;
+        std::swap(res, trial);
+        if (!small) sys = SumSystem(l, res, model, alpha);
         lambda = std::max(lambda * 0.5, 1e-6);
       } else {
         lambda *= 4.0;
@@ -173,13 +260,14 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
       }
       if (small) break;
     }
+    result.level_rmse[l] = energy.valid > 0 ? std::sqrt(energy.sum_sq / energy.valid) : 0.0;
+    if (abandon_above && result.level_rmse[l] > abandon_factor * (*abandon_above)[l]) {
+      result.reason = "abandoned: level " + std::to_string(l) + " residual above a better attempt's";
+      return result;
+    }
     if (l == 0) {
-      std::vector<float> final_residuals;
-      const Accumulated last = Evaluate(0, frame, T, alpha, beta, model, false, &final_residuals);
-      result.inlier_ratio = last.valid > 0 ? 1.0 - static_cast<double>(last.bad) / last.valid : 0.0;
-      double sum_sq = 0.0;
-      for (float r : final_residuals) sum_sq += double(r) * r;
-      result.rmse = final_residuals.empty() ? 0.0 : std::sqrt(sum_sq / final_residuals.size());
+      result.inlier_ratio = energy.valid > 0 ? 1.0 - static_cast<double>(energy.bad) / energy.valid : 0.0;
+      result.rmse = result.level_rmse[0];
     }
   }
   result.frame_from_keyframe = T;

@@ -11,10 +11,20 @@
 // reference, J_k = -e^alpha grad I_r(u_k) J_pi(p_k) [I  -hat(p_k)], fixed per level; the update
 // is T <- T Exp(delta)^-1. (alpha, beta) are updated additively. Weights: gradient weight times
 // a Student-t fitted per level. Coarse to fine over the pyramid.
+//
+// The Jacobian of pixel k over (xi, alpha, beta) is J_k = -D g_k with the fixed
+//   g_k = (grad I_r J_pi [I -hat(p_k)], I_r(u_k), 1),   D = diag(e^alpha (x7), 1),
+// so the normal equations are H = D (sum_k w_k g_k g_k^T) D and b = -D sum_k w_k g_k r_k: per
+// iteration only the weights and residuals change. Each evaluation projects and samples every
+// pixel once; the energy decides whether a step is taken, and the sums are formed only then
+// (single precision within fixed chunks, added in double in chunk order: deterministic).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "dsm/geometry/camera.h"
 #include "dsm/image/pyramid.h"
@@ -67,6 +77,8 @@ struct TrackResult {
   double usage = 0.0;             // Share of reference points whose patch lands in the frame.
   double visibility = 0.0;        // s_u = mean min(rho_kf / rho_frame, 1), 0 out of view (paper VI-B).
   int iterations = 0;
+  // Per level (index = level): rmse of the gradient-weighted residuals where the level ended.
+  std::vector<double> level_rmse;
 };
 
 class FrameTracker {
@@ -79,35 +91,46 @@ class FrameTracker {
   // Mean inverse depth of the reference points (for the parallax score).
   double MeanIdepth() const { return mean_idepth_; }
 
-  // Tracks `frame` starting at the guess. `exposure_ratio` = tau_frame / tau_keyframe (1 if
-  // unknown) folds known exposure into alpha's starting value.
-  TrackResult Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess) const;
+  // Tracks `frame` starting at the guess (pose and brightness relative to the reference). With
+  // `abandon_above`, the rmse per level of a better attempt: this one is abandoned (not ok) as
+  // soon as a level ends above `abandon_factor` times that level's rmse there.
+  TrackResult Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess,
+                    const std::vector<double>* abandon_above = nullptr, double abandon_factor = 1.5) const;
 
   // Energy of the guess at the coarsest level (to rank alternative guesses cheaply).
   double CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const;
 
  private:
-  struct LevelPoint {
-    Eigen::Vector3f q;   // K^-1 (u_k, 1) at the level
-    float idepth;
-    float ref_value;
-    float grad_weight;
-    Eigen::Matrix<float, 1, 6> J_geo;  // grad I_r J_pi [I -hat(p)] at the reference
-  };
+  using Vector8f = Eigen::Matrix<float, 8, 1>;
+  // Per pattern pixel of the reference, at one level.
   struct LevelData {
     PinholeCamera camera;
-    std::vector<LevelPoint> points;  // kPatternSize per reference point, in order
-    std::vector<int> owner;          // reference point of each
+    std::vector<float> qx, qy;          // K^-1 (u_k, 1) at the level
+    std::vector<float> idepth;
+    std::vector<float> ref_value;
+    std::vector<float> grad_weight;     // w_g, and its square root
+    std::vector<float> sqrt_grad_weight;
+    std::vector<Vector8f, Eigen::aligned_allocator<Vector8f>> g;  // (grad I_r J_pi [I -hat(p)], I_r, 1)
   };
-
-  struct Accumulated {
+  // Residuals r_k = I_f(u'_k) - e^alpha I_r - beta of every pixel of a level at one state (0 where
+  // the pixel leaves the frame), and what they sum to under an error model.
+  struct Residuals {
+    std::vector<float> r;
+    std::vector<float> valid;  // 1 or 0
+    std::vector<float> u, v;   // Where the pixels project (scratch).
+  };
+  struct Energy {
+    double energy = 0.0, sum_sq = 0.0;  // Robust energy and sum of squares of sqrt(w_g) r
+    int valid = 0, bad = 0;
+    double Mean() const { return valid > 0 ? energy / valid : std::numeric_limits<double>::infinity(); }
+  };
+  struct System8 {
     Eigen::Matrix<double, 8, 8> H = Eigen::Matrix<double, 8, 8>::Zero();
     Eigen::Matrix<double, 8, 1> b = Eigen::Matrix<double, 8, 1>::Zero();
-    double energy = 0.0;
-    int valid = 0, bad = 0;
   };
-  Accumulated Evaluate(int level, const ImagePyramid& frame, const SE3d& T, double alpha, double beta,
-                       const ErrorModel& model, bool jacobians, std::vector<float>* residuals) const;
+  void Evaluate(int level, const ImagePyramid& frame, const SE3d& T, double alpha, double beta, Residuals* out) const;
+  Energy SumEnergy(int level, const Residuals& res, const ErrorModel& model) const;
+  System8 SumSystem(int level, const Residuals& res, const ErrorModel& model, double alpha) const;
 
   TrackerOptions options_;
   std::vector<LevelData> levels_;

@@ -30,7 +30,7 @@ const Fixture& GetFixture() {
     // Every 12th pixel with some gradient: about the system's 1500 points.
     for (int y = 8; y < a.image.height() - 8; y += 12)
       for (int x = 8; x < a.image.width() - 8; x += 12) {
-        const PixelGrad g = fx.reference.level(0)(x, y);
+        const PixelGrad g = fx.reference.At(0, x, y);
         if (g[1] * g[1] + g[2] * g[2] > 25.f && a.depth(x, y) > 0.f)
           fx.points.push_back({Eigen::Vector2f(x, y), 1.f / a.depth(x, y)});
       }
@@ -64,6 +64,19 @@ void BM_TrackOneIterationLevel0(benchmark::State& state) {
   state.counters["pixels"] = static_cast<double>(f.points.size() * kPatternSize);
 }
 BENCHMARK(BM_TrackOneIterationLevel0)->Unit(benchmark::kMicrosecond);
+
+// The pyramid every frame needs (5 levels with gradients), built from a 752x480 image (EuRoC's size).
+void BM_BuildPyramid(benchmark::State& state) {
+  const Fixture& f = GetFixture();
+  Image<float> image(752, 480);
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) image(x, y) = f.reference.Value(0, x % f.reference.width(0), y % f.reference.height(0));
+  for (auto _ : state) {
+    const ImagePyramid pyramid(image, 5);
+    benchmark::DoNotOptimize(pyramid.At(4, 0, 0));
+  }
+}
+BENCHMARK(BM_BuildPyramid)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace dsm

@@ -26,7 +26,7 @@ std::vector<ReferencePoint> GradientPoints(const Rendered& r) {
   std::vector<ReferencePoint> points;
   for (int y = 4; y < r.pyramid.height(0) - 4; y += 5)
     for (int x = 4; x < r.pyramid.width(0) - 4; x += 5) {
-      const PixelGrad g = r.pyramid.level(0)(x, y);
+      const PixelGrad g = r.pyramid.At(0, x, y);
       if (g[1] * g[1] + g[2] * g[2] > 64.f && r.depth(x, y) > 0.f)
         points.push_back({Eigen::Vector2f(x, y), 1.f / r.depth(x, y)});
     }
