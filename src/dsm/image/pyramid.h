@@ -91,8 +91,9 @@ class ImagePyramid {
     const int w = values_[l].width();
     return (1.f - fy) * ((1.f - fx) * p[0] + fx * p[1]) + fy * ((1.f - fx) * p[w] + fx * p[w + 1]);
   }
+  // Bilinear sampling touches only pixels at least `border` inside: border <= x < width - 1 - border.
   bool InBounds(int l, float x, float y, float border) const {
-    return HasGradients() ? fixed_[l].InBounds(x, y, border) : values_[l].InBounds(x, y, border);
+    return x >= border && y >= border && x < width(l) - 1.f - border && y < height(l) - 1.f - border;
   }
 
   // Asks the cache for the pixels within `radius` (+1 for bilinear) of (x, y) at level l, ahead of

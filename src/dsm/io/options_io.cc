@@ -74,6 +74,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["pba.min_camera_observations"] = Set(&o->pba.min_camera_observations);
   s["pba.max_outside_observations"] = Set(&o->pba.max_outside_observations);
   s["pba.max_outside_keyframes"] = Set(&o->pba.max_outside_keyframes);
+  s["pba.outside_observations_per_point"] = Set(&o->pba.outside_observations_per_point);
   s["pba.drop_outlier_ratio"] = Set(&o->pba.drop_outlier_ratio);
   s["pba.skip_outlier_ratio"] = Set(&o->pba.skip_outlier_ratio);
   // The robust function applies to the bundle adjustment and the tracker alike.

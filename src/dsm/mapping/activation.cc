@@ -26,11 +26,11 @@ void DistanceMap::Add(const Eigen::Vector2f& pixel) {
   const float cx = 0.5f * pixel.x(), cy = 0.5f * pixel.y();
   const int x0 = std::max(0, static_cast<int>(cx) - kRadius), x1 = std::min(w_ - 1, static_cast<int>(cx) + kRadius);
   const int y0 = std::max(0, static_cast<int>(cy) - kRadius), y1 = std::min(h_ - 1, static_cast<int>(cy) + kRadius);
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x) {
-      float& d = d_[static_cast<size_t>(y) * w_ + x];
-      d = std::min(d, 2.f * std::hypot(x - cx, y - cy));
-    }
+  for (int y = y0; y <= y1; ++y) {
+    const float dy2 = (y - cy) * (y - cy);
+    float* row = d_.data() + static_cast<size_t>(y) * w_;
+    for (int x = x0; x <= x1; ++x) row[x] = std::min(row[x], 2.f * std::sqrt((x - cx) * (x - cx) + dy2));
+  }
 }
 
 float DistanceMap::Distance(const Eigen::Vector2f& pixel) const {

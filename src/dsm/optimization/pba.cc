@@ -19,6 +19,7 @@ void PbaOptions::Validate() const {
   if (!(initial_lambda > 0)) throw InputError("pba.initial_lambda must be positive");
   if (max_outside_observations < 0) throw InputError("pba.max_outside_observations must be non-negative");
   if (max_outside_keyframes < 0) throw InputError("pba.max_outside_keyframes must be non-negative");
+  if (outside_observations_per_point < 0) throw InputError("pba.outside_observations_per_point must be non-negative");
   if (min_camera_observations < 0) throw InputError("pba.min_camera_observations must be non-negative");
   if (!(drop_outlier_ratio > 0 && drop_outlier_ratio <= skip_outlier_ratio && skip_outlier_ratio <= 1))
     throw InputError("pba outlier ratios must satisfy 0 < drop <= skip <= 1");
@@ -96,9 +97,10 @@ class Problem {
           const Point& p = map->point(pid);
           if (p.removed) continue;
           int skip = 0;
-          if (is_held[cams_[c]]) {
+          const int cap = is_held[cams_[c]] ? options.max_outside_observations : options.outside_observations_per_point;
+          if (is_held[cams_[c]] || cap > 0) {
             for (const Observation& o : p.observations) skip += !o.outlier && !is_active[o.target];
-            skip -= options.max_outside_observations;  // The oldest ones are left out.
+            skip -= cap;  // The oldest ones are left out.
           }
           kept.clear();
           for (const Observation& o : p.observations)

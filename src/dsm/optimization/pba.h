@@ -31,6 +31,9 @@ struct PbaOptions {
   int max_outside_observations = 3;  // Per point of a held keyframe: the newest ones outside the window.
   // Keyframes outside the window in the problem (fixed): the most observed ones; 0: all.
   int max_outside_keyframes = 0;
+  // Per point of any active keyframe: at most the newest this many observations outside the
+  // window (0: all). Bounds the outside observations by a multiple of the active points.
+  int outside_observations_per_point = 0;
   RobustOptions robust;
   double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
   double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.

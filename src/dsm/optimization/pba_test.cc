@@ -90,6 +90,13 @@ TEST(Pba, KeepsTheNewestObservationsOutsideTheWindow) {
   EXPECT_EQ(RunPba(&free.map, free.seq.camera, {0, 1}, options).observations, 3 * all.points);
   EXPECT_EQ(all.observations, 3 * all.points);
   EXPECT_EQ(all.keyframes, 4);
+  // The same cap for the points of optimised keyframes: outside_observations_per_point.
+  World bounded;
+  BuildWorld({0, 6, 12, 18}, &bounded);
+  options.outside_observations_per_point = 1;
+  const PbaSummary per_point = RunPba(&bounded.map, bounded.seq.camera, {0, 1}, options);
+  EXPECT_EQ(per_point.observations, 2 * per_point.points);
+  EXPECT_EQ(per_point.keyframes, 3);
 }
 
 TEST(Pba, AKeyframeInFewObservationsStaysFixed) {

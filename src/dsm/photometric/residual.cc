@@ -14,7 +14,7 @@ bool SampleHostPatch(const ImagePyramid& host, int level, const Eigen::Vector2f&
     if (!host.InBounds(level, x, y, 1.f)) return false;
     const PixelGrad g = host.Sample(level, x, y);
     patch->value[k] = g[0];
-    patch->grad_sq[k] = g[1] * g[1] + g[2] * g[2];
+    patch->weight_g[k] = GradientWeight(g[1] * g[1] + g[2] * g[2]);
   }
   return true;
 }
@@ -45,7 +45,7 @@ bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, Deri
     const PixelGrad g = in.target->Sample(in.level, u, v);
     const float it_minus_b = g[0] - b_t;
     out->r[k] = (host.value[k] - b_h) - s * it_minus_b;
-    out->weight_g[k] = 0.5f * (GradientWeight(host.grad_sq[k]) + GradientWeight(g[1] * g[1] + g[2] * g[2]));
+    out->weight_g[k] = 0.5f * (host.weight_g[k] + GradientWeight(g[1] * g[1] + g[2] * g[2]));
     if (derivatives == Derivatives::kNone) continue;
     // d r / d p = -s grad I_t^T J_pi
     const float dx = -s * g[1], dy = -s * g[2];

@@ -44,7 +44,7 @@ struct AffineBrightness {
 struct HostPatch {
   Eigen::Vector2f center = Eigen::Vector2f::Zero();  // Pixel at the level.
   std::array<float, kPatternSize> value{};
-  std::array<float, kPatternSize> grad_sq{};
+  std::array<float, kPatternSize> weight_g{};  // Gradient weights w_g of the host pixels.
 };
 
 // Samples the host patch; false if the pattern leaves the image (border 1 px).

@@ -294,9 +294,7 @@ bool System::TrackFrame(const ImagePyramid& pyramid, double exposure, TrackResul
   if (ranked[1].first < 0.7 * ranked[0].first) std::swap(ranked[0], ranked[1]);
   TrackResult best;
   for (int attempt = 0; attempt < 3; ++attempt) {
-    // A later attempt is abandoned once a level ends well above where the best one did.
-    const TrackResult r = tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, last_beta_,
-                                          best.ok ? &best.level_rmse : nullptr);
+    const TrackResult r = tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, last_beta_);
     if (r.ok && (!best.ok || r.rmse < best.rmse)) best = r;
     if (!best.ok && attempt == 0) best = r;
     // Other guesses only when this one failed or left a much larger residual than usual.

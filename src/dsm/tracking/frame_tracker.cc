@@ -122,8 +122,9 @@ FrameTracker::Energy FrameTracker::SumEnergy(int l, const Residuals& res, const 
   const float* valid = res.valid.data();
   const float* sw = level.sqrt_grad_weight.data();
   const float threshold = static_cast<float>(model.inlier_threshold);
-  // Single-precision sums, vectorised (the order of a SIMD reduction is fixed for a build).
-  float energy = 0.f, sum_sq = 0.f, bad = 0.f, count = 0.f;
+  // Terms in single precision, sums in double (steps near convergence change the energy by less
+  // than a float sum resolves), vectorised: the order of a SIMD reduction is fixed for a build.
+  double energy = 0.0, sum_sq = 0.0, bad = 0.0, count = 0.0;
   if (model.kind == RobustKind::kStudentT) {
     // rho(rw) = (nu + 1)/2 log(1 + rw^2 / (nu sigma^2)): the logs summed, the factor applied once.
     const float inv = static_cast<float>(1.0 / (model.nu * model.sigma * model.sigma));
@@ -136,7 +137,7 @@ FrameTracker::Energy FrameTracker::SumEnergy(int l, const Residuals& res, const 
       bad += valid[i] * (rw2 > t2 ? 1.f : 0.f);
       count += valid[i];
     }
-    energy *= static_cast<float>(0.5 * (model.nu + 1.0));
+    energy *= 0.5 * (model.nu + 1.0);
   } else {
     for (size_t i = 0; i < n; ++i) {
       const float rw = sw[i] * r[i];
@@ -206,8 +207,8 @@ double FrameTracker::CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, 
   return e.Mean();
 }
 
-TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess,
-                                const std::vector<double>* abandon_above, double abandon_factor) const {
+TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess,
+                                double beta_guess) const {
   TrackResult result;
   result.frame_from_keyframe = guess;
   result.alpha = alpha_guess;
@@ -219,7 +220,6 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
   SE3d T = guess;
   double alpha = alpha_guess, beta = beta_guess;
   ErrorModel model = DefaultErrorModel(options_.robust);
-  result.level_rmse.assign(levels_.size(), 0.0);
   Residuals res, trial;
   std::vector<float> weighted;
   for (int l = static_cast<int>(levels_.size()) - 1; l >= 0; --l) {
@@ -260,14 +260,9 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
       }
       if (small) break;
     }
-    result.level_rmse[l] = energy.valid > 0 ? std::sqrt(energy.sum_sq / energy.valid) : 0.0;
-    if (abandon_above && result.level_rmse[l] > abandon_factor * (*abandon_above)[l]) {
-      result.reason = "abandoned: level " + std::to_string(l) + " residual above a better attempt's";
-      return result;
-    }
-    if (l == 0) {
-      result.inlier_ratio = energy.valid > 0 ? 1.0 - static_cast<double>(energy.bad) / energy.valid : 0.0;
-      result.rmse = result.level_rmse[0];
+    if (l == 0 && energy.valid > 0) {
+      result.inlier_ratio = 1.0 - static_cast<double>(energy.bad) / energy.valid;
+      result.rmse = std::sqrt(energy.sum_sq / energy.valid);
     }
   }
   result.frame_from_keyframe = T;

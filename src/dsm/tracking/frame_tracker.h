@@ -77,8 +77,6 @@ struct TrackResult {
   double usage = 0.0;             // Share of reference points whose patch lands in the frame.
   double visibility = 0.0;        // s_u = mean min(rho_kf / rho_frame, 1), 0 out of view (paper VI-B).
   int iterations = 0;
-  // Per level (index = level): rmse of the gradient-weighted residuals where the level ended.
-  std::vector<double> level_rmse;
 };
 
 class FrameTracker {
@@ -91,11 +89,8 @@ class FrameTracker {
   // Mean inverse depth of the reference points (for the parallax score).
   double MeanIdepth() const { return mean_idepth_; }
 
-  // Tracks `frame` starting at the guess (pose and brightness relative to the reference). With
-  // `abandon_above`, the rmse per level of a better attempt: this one is abandoned (not ok) as
-  // soon as a level ends above `abandon_factor` times that level's rmse there.
-  TrackResult Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess,
-                    const std::vector<double>* abandon_above = nullptr, double abandon_factor = 1.5) const;
+  // Tracks `frame` starting at the guess (pose and brightness relative to the reference).
+  TrackResult Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess) const;
 
   // Energy of the guess at the coarsest level (to rank alternative guesses cheaply).
   double CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const;
