@@ -24,7 +24,7 @@ constexpr int kBlock = 32;
 // and linear intensity (and most smooth shading), so on a block without strong edges its response
 // is image noise, with standard deviation 6 sigma (sum of N's squared entries: 36).
 float NoiseResponse(const ImagePyramid& image, int x, int y) {
-  const auto I = [&](int u, int v) { return image.At(0, u, v)[0]; };
+  const auto I = [&](int u, int v) { return image.Value(0, u, v); };
   return std::abs(I(x - 1, y - 1) - 2.f * I(x, y - 1) + I(x + 1, y - 1) - 2.f * I(x - 1, y) + 4.f * I(x, y) -
                   2.f * I(x + 1, y) + I(x - 1, y + 1) - 2.f * I(x, y + 1) + I(x + 1, y + 1));
 }

@@ -25,7 +25,6 @@ double LogGamma(double x) {
   return lgamma_r(x, &sign);
 }
 
-
 constexpr double kMadToSigma = 1.4826;
 constexpr double kMaxNu = 200.0;
 

@@ -60,7 +60,6 @@ void FrameTracker::SetReference(const ImagePyramid* keyframe, const PinholeCamer
         level.qx.push_back(q.x());
         level.qy.push_back(q.y());
         level.idepth.push_back(rho);
-        level.ref_value.push_back(grad[0]);
         level.grad_weight.push_back(w_g);
         level.sqrt_grad_weight.push_back(std::sqrt(w_g));
         level.g.push_back(g);
@@ -109,7 +108,7 @@ void FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, dou
       v[i] = ok ? vi : lo;
     }
     for (size_t i = begin; i < end; ++i)
-      r[i] = valid[i] * (frame.SampleValue(l, u[i], v[i]) - ea * level.ref_value[i] - fb);
+      r[i] = valid[i] * (frame.SampleValue(l, u[i], v[i]) - ea * level.g[i](6) - fb);
   };
   if (n <= kChunk) return pass(0, n);
   tbb::parallel_for(size_t{0}, NumChunks(n), [&](size_t c) { pass(c * kChunk, std::min(n, (c + 1) * kChunk)); });

@@ -102,10 +102,9 @@ class FrameTracker {
     PinholeCamera camera;
     std::vector<float> qx, qy;          // K^-1 (u_k, 1) at the level
     std::vector<float> idepth;
-    std::vector<float> ref_value;
     std::vector<float> grad_weight;     // w_g, and its square root
     std::vector<float> sqrt_grad_weight;
-    std::vector<Vector8f, Eigen::aligned_allocator<Vector8f>> g;  // (grad I_r J_pi [I -hat(p)], I_r, 1)
+    std::vector<Vector8f, Eigen::aligned_allocator<Vector8f>> g;  // (grad I_r J_pi [I -hat(p)], I_r, 1): g(6) = I_r
   };
   // Residuals r_k = I_f(u'_k) - e^alpha I_r - beta of every pixel of a level at one state (0 where
   // the pixel leaves the frame), and what they sum to under an error model.
