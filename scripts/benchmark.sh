@@ -7,13 +7,18 @@
 # Usage: ./scripts/benchmark.sh [WORK_DIR]      (default /tmp/dsm_benchmark)
 #   DSM_BENCH_QUICK=1   only EuRoC and the loop scene, and a 1200-frame long loop
 #   DSM_BENCH_NO_KERNELS=1   skip the Google Benchmark programs
+#   DSM_BIN=path   measure this dsm binary (no set-up or build; e.g. a copy of an older build)
 # Renders are kept in WORK_DIR and reused. Compare numbers from one invocation only: this machine's
 # speed drifts from hour to hour.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-./scripts/setup.sh >/dev/null
 BUILD_DIR="${DSM_BUILD_DIR:-build}"
-DSM="$BUILD_DIR/bin/dsm"
+if [ -n "${DSM_BIN:-}" ]; then
+  DSM="$DSM_BIN"
+else
+  ./scripts/setup.sh >/dev/null
+  DSM="$BUILD_DIR/bin/dsm"
+fi
 DATA="${DSM_SHARED_DATA_DIR:-../shared/data}"
 WORK="${1:-/tmp/dsm_benchmark}"
 mkdir -p "$WORK"

@@ -37,11 +37,11 @@ constexpr int kChunks = 64;  // Fixed work split: the sums do not depend on the 
 // keyframe: (xi 6, a, b), xi a left increment of cam_from_world.
 //   xi_rel = xi_t - Adj(T_th) xi_h     (T_th = T_tw T_hw^-1)
 struct PairGeometry {
-  bool used = false;
+  int host = -1, target = -1;  // Problem camera indices.
   int slot = -1;  // Accumulator index; -1 when both keyframes are fixed (nothing to accumulate).
-  Eigen::Matrix3f R;
-  Eigen::Vector3f t;
-  Map10x8 A_host, A_target;  // d(relative) / d(absolute)
+  Eigen::Matrix3f R = Eigen::Matrix3f::Identity();
+  Eigen::Vector3f t = Eigen::Vector3f::Zero();
+  Map10x8 A_host = Map10x8::Zero(), A_target = Map10x8::Zero();  // d(relative) / d(absolute)
 };
 
 struct PairAccumulator {
@@ -53,6 +53,8 @@ using PatternValues = std::array<float, kPatternSize>;
 
 struct ObsState {
   int target = -1;  // Problem camera index.
+  int pair = -1;    // Its host-target pair (Problem::pairs_).
+  int acc = -1;     // Its pair's accumulator within its chunk; -1 when the pair has none.
   // Two linearisations side by side, the accepted one and a trial's (Problem::current_ says which
   // is which): whether the observation takes part, and its gradient weights. The energy of a
   // trial step uses the accepted ones, so a step is judged on the function its Gauss–Newton model
@@ -156,6 +158,7 @@ class Problem {
       if (links[c] < options.min_camera_observations) fixed_[c] = true;
     models_.resize(cams_.size());
     for (size_t c = 0; c < cams_.size(); ++c) models_[c] = map->keyframe(cams_[c]).error_model;
+    IndexPairs();
   }
 
   int NumCameras() const { return static_cast<int>(cams_.size()); }
@@ -239,9 +242,9 @@ class Problem {
     UpdatePairs();
     const int n = NumCameras();
     eq->Reset(n, NumPoints());
-    // One accumulator per pair with a free keyframe, per chunk (sparse: most pairs are unused).
+    // Per chunk, one accumulator per pair with a free keyframe that its observations use.
     chunk_pairs_.resize(kChunks);
-    for (auto& chunk : chunk_pairs_) chunk.assign(num_slots_, PairAccumulator{});
+    for (int chunk = 0; chunk < kChunks; ++chunk) chunk_pairs_[chunk].assign(chunk_slots_[chunk], PairAccumulator{});
     auto& chunk_pairs = chunk_pairs_;
     std::vector<double> chunk_energy(kChunks, 0.0), chunk_judged(kChunks, 0.0);
     tbb::parallel_for(0, kChunks, [&](int chunk) {
@@ -256,24 +259,23 @@ class Problem {
       trial.energy += chunk_energy[chunk];
       trial.judged += chunk_judged[chunk];
     }
-    for (int h = 0; h < n; ++h) {
-      for (int t = 0; t < n; ++t) {
-        const PairGeometry& g = pairs_[h * n + t];
-        if (g.slot < 0) continue;
-        PairAccumulator sum;
-        for (int chunk = 0; chunk < kChunks; ++chunk) {
-          sum.H += chunk_pairs[chunk][g.slot].H;
-          sum.b += chunk_pairs[chunk][g.slot].b;
-        }
-        const int ih = kCameraParams * h, it = kCameraParams * t;
-        eq->H_cc.block<8, 8>(ih, ih) += g.A_host.transpose() * sum.H * g.A_host;
-        eq->H_cc.block<8, 8>(it, it) += g.A_target.transpose() * sum.H * g.A_target;
-        const Eigen::Matrix<double, 8, 8> ht = g.A_host.transpose() * sum.H * g.A_target;
-        eq->H_cc.block<8, 8>(ih, it) += ht;
-        eq->H_cc.block<8, 8>(it, ih) += ht.transpose();
-        eq->b_c.segment<8>(ih) += g.A_host.transpose() * sum.b;
-        eq->b_c.segment<8>(it) += g.A_target.transpose() * sum.b;
+    // Pairs in (host, target) order, each summed over the chunks in order: the sums do not depend
+    // on the thread count.
+    for (const PairGeometry& g : pairs_) {
+      if (g.slot < 0) continue;
+      PairAccumulator sum;
+      for (const auto& [chunk, local] : slot_chunks_[g.slot]) {
+        sum.H += chunk_pairs[chunk][local].H;
+        sum.b += chunk_pairs[chunk][local].b;
       }
+      const int ih = kCameraParams * g.host, it = kCameraParams * g.target;
+      eq->H_cc.block<8, 8>(ih, ih) += g.A_host.transpose() * sum.H * g.A_host;
+      eq->H_cc.block<8, 8>(it, it) += g.A_target.transpose() * sum.H * g.A_target;
+      const Eigen::Matrix<double, 8, 8> ht = g.A_host.transpose() * sum.H * g.A_target;
+      eq->H_cc.block<8, 8>(ih, it) += ht;
+      eq->H_cc.block<8, 8>(it, ih) += ht.transpose();
+      eq->b_c.segment<8>(ih) += g.A_host.transpose() * sum.b;
+      eq->b_c.segment<8>(it) += g.A_target.transpose() * sum.b;
     }
     return trial;
   }
@@ -363,31 +365,60 @@ class Problem {
     o->y = static_cast<int>(res.center_target.y());
   }
 
-  void UpdatePairs() {
+  // The host-target pairs the observations use, in (host, target) order, those with a free keyframe
+  // numbered as accumulator slots; and per chunk of points (fixed split) the slots its
+  // observations add to, numbered locally: a chunk's accumulators are only the ones it uses (a
+  // dense chunk x slot table was tens of MB, zeroed on every linearisation).
+  void IndexPairs() {
     const int n = NumCameras();
-    pairs_.assign(n * n, PairGeometry{});
+    std::vector<int> index(static_cast<size_t>(n) * n, -1);
     for (const PointState& ps : points_)
-      for (const ObsState& o : ps.obs) pairs_[ps.host * n + o.target].used = true;
-    num_slots_ = 0;
+      for (const ObsState& o : ps.obs) index[ps.host * n + o.target] = 0;
+    int num_slots = 0;
     for (int h = 0; h < n; ++h)
       for (int t = 0; t < n; ++t) {
-        PairGeometry& g = pairs_[h * n + t];
-        if (g.used && !(fixed_[h] && fixed_[t])) g.slot = num_slots_++;
+        if (index[h * n + t] < 0) continue;
+        index[h * n + t] = static_cast<int>(pairs_.size());
+        PairGeometry g;
+        g.host = h;
+        g.target = t;
+        if (!(fixed_[h] && fixed_[t])) g.slot = num_slots++;
+        pairs_.push_back(g);
       }
-    for (int h = 0; h < n; ++h) {
-      for (int t = 0; t < n; ++t) {
-        PairGeometry& g = pairs_[h * n + t];
-        if (!g.used) continue;
-        const SE3d T_th = map_->keyframe(cams_[t]).cam_from_world * map_->keyframe(cams_[h]).cam_from_world.Inverse();
-        g.R = T_th.Rotation().cast<float>();
-        g.t = T_th.Translation().cast<float>();
-        g.A_host.setZero();
-        g.A_host.topLeftCorner<6, 6>() = -T_th.Adj();
-        g.A_host(6, 6) = g.A_host(7, 7) = 1.0;
-        g.A_target.setZero();
-        g.A_target.topLeftCorner<6, 6>().setIdentity();
-        g.A_target(8, 6) = g.A_target(9, 7) = 1.0;
-      }
+    slot_chunks_.assign(num_slots, {});
+    chunk_slots_.assign(kChunks, 0);
+    std::vector<int> local(num_slots, -1);
+    for (int chunk = 0; chunk < kChunks; ++chunk) {
+      const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
+      std::vector<int> used;
+      for (size_t i = begin; i < end; ++i)
+        for (ObsState& o : points_[i].obs) {
+          o.pair = index[points_[i].host * n + o.target];
+          const int slot = pairs_[o.pair].slot;
+          if (slot < 0) continue;
+          if (local[slot] < 0) {
+            local[slot] = chunk_slots_[chunk]++;
+            used.push_back(slot);
+            slot_chunks_[slot].emplace_back(chunk, local[slot]);
+          }
+          o.acc = local[slot];
+        }
+      for (int slot : used) local[slot] = -1;
+    }
+  }
+
+  void UpdatePairs() {
+    for (PairGeometry& g : pairs_) {
+      const SE3d T_th =
+          map_->keyframe(cams_[g.target]).cam_from_world * map_->keyframe(cams_[g.host]).cam_from_world.Inverse();
+      g.R = T_th.Rotation().cast<float>();
+      g.t = T_th.Translation().cast<float>();
+      g.A_host.setZero();
+      g.A_host.topLeftCorner<6, 6>() = -T_th.Adj();
+      g.A_host(6, 6) = g.A_host(7, 7) = 1.0;
+      g.A_target.setZero();
+      g.A_target.topLeftCorner<6, 6>().setIdentity();
+      g.A_target(8, 6) = g.A_target(9, 7) = 1.0;
     }
   }
 
@@ -395,7 +426,7 @@ class Problem {
     return Evaluate(ps, o, jacobians ? Derivatives::kAll : Derivatives::kNone, res);
   }
   bool Evaluate(const PointState& ps, const ObsState& o, Derivatives derivatives, ObservationResiduals* res) const {
-    const PairGeometry& g = pairs_[ps.host * NumCameras() + o.target];
+    const PairGeometry& g = pairs_[o.pair];
     const Keyframe& host = map_->keyframe(cams_[ps.host]);
     const Keyframe& target = map_->keyframe(cams_[o.target]);
     ObservationInput in;
@@ -433,14 +464,13 @@ class Problem {
                         double* judged) {
     PointState& ps = points_[i];
     if (!ps.patch_ok) return 0.0;
-    const int n = NumCameras();
     const int cur = current_, trial = current_ ^ 1;
     double energy = 0.0;
     for (ObsState& o : ps.obs) {
       ObservationResiduals res;
       const ErrorModel& model = models_[o.target];
       // Between two fixed keyframes only the inverse depth moves.
-      const PairGeometry& g = pairs_[ps.host * n + o.target];
+      const PairGeometry& g = pairs_[o.pair];
       if (!Evaluate(ps, o, g.slot >= 0 ? Derivatives::kAll : Derivatives::kIdepth, &res)) {
         if (o.enabled[cur]) *judged += InvalidEnergy(model);
         o.enabled[trial] = true;
@@ -472,7 +502,7 @@ class Problem {
       Eigen::Matrix<double, kPatternSize, 10> Jx;
       Jx << res.J_pose.cast<double>(), res.J_affine.cast<double>();
       const Eigen::Matrix<double, 10, kPatternSize> JxtW = Jx.transpose() * w.asDiagonal();
-      PairAccumulator& acc = (*pairs)[g.slot];
+      PairAccumulator& acc = (*pairs)[o.acc];
       // Coefficient-wise: a 10x8x10 product is below the size where Eigen's blocked GEMM pays.
       acc.H.noalias() += JxtW.lazyProduct(Jx);
       acc.b.noalias() += JxtW * r;
@@ -492,7 +522,8 @@ class Problem {
   std::vector<ErrorModel> models_;
   std::vector<PairGeometry> pairs_;
   std::vector<std::vector<PairAccumulator>> chunk_pairs_;
-  int num_slots_ = 0;
+  std::vector<int> chunk_slots_;                              // Accumulators per chunk.
+  std::vector<std::vector<std::pair<int, int>>> slot_chunks_;  // Per slot: (chunk, local index), chunk order.
   int num_obs_ = 0;
   std::vector<uint8_t> fit_valid_;             // Per observation: evaluated by the last FitModels.
   std::vector<PatternValues> fit_residuals_;   // Its weighted residuals sqrt(w_g) r.
