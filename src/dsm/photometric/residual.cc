@@ -35,32 +35,70 @@ bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, Deri
     out->center_target = Eigen::Vector2f(fx * p.x() / p.z() + cx, fy * p.y() / p.z() + cy);
     out->target_depth = in.idepth > 0.f ? p.z() / in.idepth : 0.f;
   }
-  for (int k = 0; k < kPatternSize; ++k) {
-    const Eigen::Vector3f q((host.center.x() + kPattern[k][0] - cx) / fx, (host.center.y() + kPattern[k][1] - cy) / fy, 1.f);
-    const Eigen::Vector3f p = in.R * q + t_rho;
-    if (!(p.z() > 0.f)) return false;
-    const float iz = 1.f / p.z();
-    const float u = fx * p.x() * iz + cx, v = fy * p.y() * iz + cy;
-    if (!in.target->InBounds(in.level, u, v, 2.f)) return false;
-    const PixelGrad g = in.target->Sample(in.level, u, v);
-    const float it_minus_b = g[0] - b_t;
+  // Lane-wise over the 8 pattern pixels (vectorised): projection, then the samples (gathered),
+  // then residuals, weights and Jacobians.
+  constexpr int n = kPatternSize;
+  alignas(32) float px[n], py[n], pz[n], iz[n], u[n], v[n], value[n], gx[n], gy[n];
+  const float R00 = in.R(0, 0), R01 = in.R(0, 1), R02 = in.R(0, 2), R10 = in.R(1, 0), R11 = in.R(1, 1),
+              R12 = in.R(1, 2), R20 = in.R(2, 0), R21 = in.R(2, 1), R22 = in.R(2, 2);
+#pragma omp simd
+  for (int k = 0; k < n; ++k) {
+    // p = R q_k + t rho,  q_k = K^-1 (u_k, 1)
+    const float qx = (host.center.x() + static_cast<float>(kPattern[k][0]) - cx) / fx;
+    const float qy = (host.center.y() + static_cast<float>(kPattern[k][1]) - cy) / fy;
+    px[k] = R00 * qx + (R01 * qy + R02) + t_rho.x();
+    py[k] = R10 * qx + (R11 * qy + R12) + t_rho.y();
+    pz[k] = R20 * qx + (R21 * qy + R22) + t_rho.z();
+    iz[k] = 1.f / pz[k];
+    u[k] = fx * px[k] * iz[k] + cx;
+    v[k] = fy * py[k] * iz[k] + cy;
+  }
+  for (int k = 0; k < n; ++k) {
+    if (!(pz[k] > 0.f) || !in.target->InBounds(in.level, u[k], v[k], 2.f)) return false;
+  }
+  for (int k = 0; k < n; ++k) {
+    const PixelGrad g = in.target->Sample(in.level, u[k], v[k]);
+    value[k] = g[0];
+    gx[k] = g[1];
+    gy[k] = g[2];
+  }
+#pragma omp simd
+  for (int k = 0; k < n; ++k) {
+    const float it_minus_b = value[k] - b_t;
     out->r[k] = (host.value[k] - b_h) - s * it_minus_b;
-    out->weight_g[k] = 0.5f * (host.weight_g[k] + GradientWeight(g[1] * g[1] + g[2] * g[2]));
-    if (derivatives == Derivatives::kNone) continue;
+    out->weight_g[k] = 0.5f * (host.weight_g[k] + GradientWeight(gx[k] * gx[k] + gy[k] * gy[k]));
+  }
+  if (derivatives == Derivatives::kNone) return true;
+  const float tx = in.t.x(), ty = in.t.y(), tz = in.t.z();
+  float* J_idepth = out->J_idepth.data();
+#pragma omp simd
+  for (int k = 0; k < n; ++k) {
     // d r / d p = -s grad I_t^T J_pi
-    const float dx = -s * g[1], dy = -s * g[2];
-    const float Jp0 = dx * fx * iz, Jp1 = dy * fy * iz;
-    const float Jp2 = -(dx * fx * p.x() + dy * fy * p.y()) * iz * iz;
-    const Eigen::Vector3f dr_dp(Jp0, Jp1, Jp2);
-    out->J_idepth(k) = dr_dp.dot(in.t);
-    if (derivatives == Derivatives::kIdepth) continue;
-    // d p / d xi = [rho I, -hat(p)]  ->  d r / d w = (p x dr_dp) ... = dr_dp^T (-hat(p)) = (p x dr_dp)^T
-    out->J_pose.block<1, 3>(k, 0) = in.idepth * dr_dp.transpose();
-    out->J_pose.block<1, 3>(k, 3) = p.cross(dr_dp).transpose();
-    out->J_affine(k, 0) = -s * it_minus_b;
-    out->J_affine(k, 1) = -1.f;
-    out->J_affine(k, 2) = s * it_minus_b;
-    out->J_affine(k, 3) = s;
+    const float dx = -s * gx[k], dy = -s * gy[k];
+    const float Jp0 = dx * fx * iz[k], Jp1 = dy * fy * iz[k];
+    const float Jp2 = -(dx * fx * px[k] + dy * fy * py[k]) * iz[k] * iz[k];
+    J_idepth[k] = Jp0 * tx + (Jp1 * ty + Jp2 * tz);
+  }
+  if (derivatives == Derivatives::kIdepth) return true;
+  float* Jx = out->J_pose.data();  // Column-major: column j at Jx + j n.
+  float* Ja = out->J_affine.data();
+#pragma omp simd
+  for (int k = 0; k < n; ++k) {
+    const float dx = -s * gx[k], dy = -s * gy[k];
+    const float Jp0 = dx * fx * iz[k], Jp1 = dy * fy * iz[k];
+    const float Jp2 = -(dx * fx * px[k] + dy * fy * py[k]) * iz[k] * iz[k];
+    // d p / d xi = [rho I, -hat(p)]  ->  d r / d w = dr_dp^T (-hat(p)) = (p x dr_dp)^T
+    Jx[k] = in.idepth * Jp0;
+    Jx[n + k] = in.idepth * Jp1;
+    Jx[2 * n + k] = in.idepth * Jp2;
+    Jx[3 * n + k] = py[k] * Jp2 - pz[k] * Jp1;
+    Jx[4 * n + k] = pz[k] * Jp0 - px[k] * Jp2;
+    Jx[5 * n + k] = px[k] * Jp1 - py[k] * Jp0;
+    const float it_minus_b = value[k] - b_t;
+    Ja[k] = -s * it_minus_b;
+    Ja[n + k] = -1.f;
+    Ja[2 * n + k] = s * it_minus_b;
+    Ja[3 * n + k] = s;
   }
   return true;
 }
