@@ -70,30 +70,29 @@ bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, Deri
   }
   if (derivatives == Derivatives::kNone) return true;
   const float tx = in.t.x(), ty = in.t.y(), tz = in.t.z();
+  alignas(32) float Jp0[n], Jp1[n], Jp2[n];  // d r / d p
   float* J_idepth = out->J_idepth.data();
 #pragma omp simd
   for (int k = 0; k < n; ++k) {
     // d r / d p = -s grad I_t^T J_pi
     const float dx = -s * gx[k], dy = -s * gy[k];
-    const float Jp0 = dx * fx * iz[k], Jp1 = dy * fy * iz[k];
-    const float Jp2 = -(dx * fx * px[k] + dy * fy * py[k]) * iz[k] * iz[k];
-    J_idepth[k] = Jp0 * tx + (Jp1 * ty + Jp2 * tz);
+    Jp0[k] = dx * fx * iz[k];
+    Jp1[k] = dy * fy * iz[k];
+    Jp2[k] = -(dx * fx * px[k] + dy * fy * py[k]) * iz[k] * iz[k];
+    J_idepth[k] = Jp0[k] * tx + (Jp1[k] * ty + Jp2[k] * tz);
   }
   if (derivatives == Derivatives::kIdepth) return true;
   float* Jx = out->J_pose.data();  // Column-major: column j at Jx + j n.
   float* Ja = out->J_affine.data();
 #pragma omp simd
   for (int k = 0; k < n; ++k) {
-    const float dx = -s * gx[k], dy = -s * gy[k];
-    const float Jp0 = dx * fx * iz[k], Jp1 = dy * fy * iz[k];
-    const float Jp2 = -(dx * fx * px[k] + dy * fy * py[k]) * iz[k] * iz[k];
     // d p / d xi = [rho I, -hat(p)]  ->  d r / d w = dr_dp^T (-hat(p)) = (p x dr_dp)^T
-    Jx[k] = in.idepth * Jp0;
-    Jx[n + k] = in.idepth * Jp1;
-    Jx[2 * n + k] = in.idepth * Jp2;
-    Jx[3 * n + k] = py[k] * Jp2 - pz[k] * Jp1;
-    Jx[4 * n + k] = pz[k] * Jp0 - px[k] * Jp2;
-    Jx[5 * n + k] = px[k] * Jp1 - py[k] * Jp0;
+    Jx[k] = in.idepth * Jp0[k];
+    Jx[n + k] = in.idepth * Jp1[k];
+    Jx[2 * n + k] = in.idepth * Jp2[k];
+    Jx[3 * n + k] = py[k] * Jp2[k] - pz[k] * Jp1[k];
+    Jx[4 * n + k] = pz[k] * Jp0[k] - px[k] * Jp2[k];
+    Jx[5 * n + k] = px[k] * Jp1[k] - py[k] * Jp0[k];
     const float it_minus_b = value[k] - b_t;
     Ja[k] = -s * it_minus_b;
     Ja[n + k] = -1.f;
