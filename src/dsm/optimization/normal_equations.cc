@@ -7,10 +7,17 @@
 
 namespace dsm {
 
-void NormalEquations::Reset(int cameras, int num_points) {
-  num_cameras = cameras;
-  H_cc.setZero(kCameraParams * cameras, kCameraParams * cameras);
-  b_c.setZero(kCameraParams * cameras);
+void NormalEquations::Reset(const std::vector<bool>& fixed, int num_points) {
+  num_cameras = static_cast<int>(fixed.size());
+  block.assign(num_cameras, -1);
+  int rows = 0;
+  for (int c = 0; c < num_cameras; ++c) {
+    if (fixed[c]) continue;
+    block[c] = rows;
+    rows += kCameraParams;
+  }
+  H_cc.setZero(rows, rows);
+  b_c.setZero(rows);
   // Keeps the coupling lists' storage across linearisations of the same problem.
   points.resize(num_points);
   for (PointBlock& p : points) {
@@ -30,22 +37,7 @@ void NormalEquations::AddCoupling(PointBlock* point, int camera, const CameraVec
   point->H_cp.emplace_back(camera, v);
 }
 
-namespace {
-
-// Indices of the free camera parameters.
-std::vector<int> FreeIndices(int cameras, const std::vector<bool>& fixed) {
-  std::vector<int> free;
-  for (int c = 0; c < cameras; ++c)
-    if (!fixed[c])
-      for (int k = 0; k < kCameraParams; ++k) free.push_back(kCameraParams * c + k);
-  return free;
-}
-
-}  // namespace
-
-Solution SolveSchur(const NormalEquations& eq, double lambda, const std::vector<bool>& fixed) {
-  DSM_CHECK(static_cast<int>(fixed.size()) == eq.num_cameras, "fixed flags per camera");
-  const int n = kCameraParams * eq.num_cameras;
+Solution SolveSchur(const NormalEquations& eq, double lambda) {
   Eigen::MatrixXd S = eq.H_cc;
   S.diagonal() *= (1.0 + lambda);
   Eigen::VectorXd rhs = eq.b_c;
@@ -55,30 +47,23 @@ Solution SolveSchur(const NormalEquations& eq, double lambda, const std::vector<
     const double hpp = p.H_pp * (1.0 + lambda);
     if (!(hpp > 0.0)) continue;
     inv_hpp[i] = 1.0 / hpp;
-    // Blocks of fixed cameras are dropped from S below: skip them here (most of the cameras of a
-    // window's problem are fixed, observed keyframes).
     for (const auto& [ci, vi] : p.H_cp) {
-      if (fixed[ci]) continue;
-      rhs.segment<kCameraParams>(kCameraParams * ci) -= vi * (p.b_p * inv_hpp[i]);
+      const int bi = eq.block[ci];
+      if (bi < 0) continue;
+      rhs.segment<kCameraParams>(bi) -= vi * (p.b_p * inv_hpp[i]);
       for (const auto& [cj, vj] : p.H_cp) {
-        if (fixed[cj]) continue;
-        S.block<kCameraParams, kCameraParams>(kCameraParams * ci, kCameraParams * cj).noalias() -= vi * vj.transpose() * inv_hpp[i];
+        const int bj = eq.block[cj];
+        if (bj < 0) continue;
+        S.block<kCameraParams, kCameraParams>(bi, bj).noalias() -= vi * vj.transpose() * inv_hpp[i];
       }
     }
   }
   Solution sol;
-  sol.cameras.setZero(n);
-  const std::vector<int> free = FreeIndices(eq.num_cameras, fixed);
-  if (!free.empty()) {
-    const int m = static_cast<int>(free.size());
-    Eigen::MatrixXd Sf(m, m);
-    Eigen::VectorXd rf(m);
-    for (int i = 0; i < m; ++i) {
-      rf(i) = rhs(free[i]);
-      for (int j = 0; j < m; ++j) Sf(i, j) = S(free[i], free[j]);
-    }
-    const Eigen::VectorXd xf = Sf.ldlt().solve(-rf);
-    for (int i = 0; i < m; ++i) sol.cameras(free[i]) = xf(i);
+  sol.cameras.setZero(kCameraParams * eq.num_cameras);
+  if (S.rows() > 0) {
+    const Eigen::VectorXd x = S.ldlt().solve(-rhs);
+    for (int c = 0; c < eq.num_cameras; ++c)
+      if (eq.block[c] >= 0) sol.cameras.segment<kCameraParams>(kCameraParams * c) = x.segment<kCameraParams>(eq.block[c]);
   }
   sol.points.setZero(eq.points.size());
   for (size_t i = 0; i < eq.points.size(); ++i) {
@@ -90,8 +75,8 @@ Solution SolveSchur(const NormalEquations& eq, double lambda, const std::vector<
   return sol;
 }
 
-Solution SolveDense(const NormalEquations& eq, double lambda, const std::vector<bool>& fixed) {
-  const int nc = kCameraParams * eq.num_cameras;
+Solution SolveDense(const NormalEquations& eq, double lambda) {
+  const int nc = static_cast<int>(eq.H_cc.rows());
   const int np = static_cast<int>(eq.points.size());
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nc + np, nc + np);
   Eigen::VectorXd b(nc + np);
@@ -101,24 +86,19 @@ Solution SolveDense(const NormalEquations& eq, double lambda, const std::vector<
     H(nc + i, nc + i) = eq.points[i].H_pp;
     b(nc + i) = eq.points[i].b_p;
     for (const auto& [c, v] : eq.points[i].H_cp) {
-      H.block(kCameraParams * c, nc + i, kCameraParams, 1) = v;
-      H.block(nc + i, kCameraParams * c, 1, kCameraParams) = v.transpose();
+      if (eq.block[c] < 0) continue;
+      H.block(eq.block[c], nc + i, kCameraParams, 1) += v;
+      H.block(nc + i, eq.block[c], 1, kCameraParams) += v.transpose();
     }
   }
   H.diagonal() *= (1.0 + lambda);
-  std::vector<int> free = FreeIndices(eq.num_cameras, fixed);
-  for (int i = 0; i < np; ++i) free.push_back(nc + i);
-  const int m = static_cast<int>(free.size());
-  Eigen::MatrixXd Hf(m, m);
-  Eigen::VectorXd bf(m);
-  for (int i = 0; i < m; ++i) {
-    bf(i) = b(free[i]);
-    for (int j = 0; j < m; ++j) Hf(i, j) = H(free[i], free[j]);
-  }
-  const Eigen::VectorXd xf = Hf.ldlt().solve(-bf);
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(nc + np);
-  for (int i = 0; i < m; ++i) x(free[i]) = xf(i);
-  return {x.head(nc), x.tail(np)};
+  const Eigen::VectorXd x = H.ldlt().solve(-b);
+  Solution sol;
+  sol.cameras.setZero(kCameraParams * eq.num_cameras);
+  for (int c = 0; c < eq.num_cameras; ++c)
+    if (eq.block[c] >= 0) sol.cameras.segment<kCameraParams>(kCameraParams * c) = x.segment<kCameraParams>(eq.block[c]);
+  sol.points = x.tail(np);
+  return sol;
 }
 
 }  // namespace dsm

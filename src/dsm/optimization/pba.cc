@@ -165,7 +165,6 @@ class Problem {
   int NumFixed() const { return static_cast<int>(std::count(fixed_.begin(), fixed_.end(), true)); }
   int NumPoints() const { return static_cast<int>(points_.size()); }
   int NumObservations() const { return num_obs_; }
-  const std::vector<bool>& fixed() const { return fixed_; }
 
   void SetLevel(int level) {
     level_ = level;
@@ -240,8 +239,7 @@ class Problem {
   void Accept() { current_ ^= 1; }
   Trial LinearizeTrial(NormalEquations* eq) {
     UpdatePairs();
-    const int n = NumCameras();
-    eq->Reset(n, NumPoints());
+    eq->Reset(fixed_, NumPoints());
     // Per chunk, one accumulator per pair with a free keyframe that its observations use.
     chunk_pairs_.resize(kChunks);
     for (int chunk = 0; chunk < kChunks; ++chunk) chunk_pairs_[chunk].assign(chunk_slots_[chunk], PairAccumulator{});
@@ -268,14 +266,21 @@ class Problem {
         sum.H += chunk_pairs[chunk][local].H;
         sum.b += chunk_pairs[chunk][local].b;
       }
-      const int ih = kCameraParams * g.host, it = kCameraParams * g.target;
-      eq->H_cc.block<8, 8>(ih, ih) += g.A_host.transpose() * sum.H * g.A_host;
-      eq->H_cc.block<8, 8>(it, it) += g.A_target.transpose() * sum.H * g.A_target;
-      const Eigen::Matrix<double, 8, 8> ht = g.A_host.transpose() * sum.H * g.A_target;
-      eq->H_cc.block<8, 8>(ih, it) += ht;
-      eq->H_cc.block<8, 8>(it, ih) += ht.transpose();
-      eq->b_c.segment<8>(ih) += g.A_host.transpose() * sum.b;
-      eq->b_c.segment<8>(it) += g.A_target.transpose() * sum.b;
+      // Only the free cameras' blocks (a fixed camera's rows drop out of the solve).
+      const int ih = eq->block[g.host], it = eq->block[g.target];
+      if (ih >= 0) {
+        eq->H_cc.block<8, 8>(ih, ih) += g.A_host.transpose() * sum.H * g.A_host;
+        eq->b_c.segment<8>(ih) += g.A_host.transpose() * sum.b;
+      }
+      if (it >= 0) {
+        eq->H_cc.block<8, 8>(it, it) += g.A_target.transpose() * sum.H * g.A_target;
+        eq->b_c.segment<8>(it) += g.A_target.transpose() * sum.b;
+      }
+      if (ih >= 0 && it >= 0) {
+        const Eigen::Matrix<double, 8, 8> ht = g.A_host.transpose() * sum.H * g.A_target;
+        eq->H_cc.block<8, 8>(ih, it) += ht;
+        eq->H_cc.block<8, 8>(it, ih) += ht.transpose();
+      }
     }
     return trial;
   }
@@ -555,7 +560,7 @@ PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>&
     for (int it = 0; it < options.max_iterations; ++it) {
       ++summary.iterations;
       const Problem::Backup backup = problem.Save();
-      const Solution step = SolveSchur(eq, lambda, problem.fixed());
+      const Solution step = SolveSchur(eq, lambda);
       const bool converged = problem.Apply(step);
       const Problem::Trial trial = problem.LinearizeTrial(&trial_eq);
       if (trial.judged < energy) {
