@@ -5,6 +5,8 @@
 #include <cmath>
 #include <utility>
 
+#include <tbb/parallel_for.h>
+
 namespace dsm {
 
 namespace {
@@ -21,29 +23,34 @@ Image<float> Half(const Image<float>& current) {
   return half;
 }
 
+// Round half away from zero, as std::lround, inline: a float plus or minus 0.5 is exact in double,
+// and the conversion truncates toward zero.
+inline int RoundHalfAway(float v) { return static_cast<int>(static_cast<double>(v) + (v < 0.f ? -0.5 : 0.5)); }
 uint16_t ToFixedValue(float v) {
-  return static_cast<uint16_t>(std::lround(std::clamp(v * ImagePyramid::kValueScale, 0.f, 65535.f)));
+  return static_cast<uint16_t>(RoundHalfAway(std::clamp(v * ImagePyramid::kValueScale, 0.f, 65535.f)));
 }
 int16_t ToFixedGradient(float g) {
-  return static_cast<int16_t>(std::lround(std::clamp(g * ImagePyramid::kGradientScale, -32767.f, 32767.f)));
+  return static_cast<int16_t>(RoundHalfAway(std::clamp(g * ImagePyramid::kGradientScale, -32767.f, 32767.f)));
 }
 
-// (I, dI/dx, dI/dy) in fixed point, central differences (one-sided at the border).
+// (I, dI/dx, dI/dy) in fixed point, central differences (one-sided at the border). Rows in
+// parallel (each pixel on its own: the result does not depend on the split).
 Image<PixelFixed> FixedWithGradients(const Image<float>& img) {
   const int w = img.width(), h = img.height();
   Image<PixelFixed> out(w, h, PixelFixed{0, 0, 0});
-  for (int y = 0; y < h; ++y) {
+  tbb::parallel_for(0, h, [&](int y) {
     const float* r = img.Row(y);
     const float* up = img.Row(y > 0 ? y - 1 : y);
     const float* down = img.Row(y < h - 1 ? y + 1 : y);
     const float sy = (y > 0 && y < h - 1) ? 0.5f : 1.f;
     PixelFixed* o = out.Row(y);
-    for (int x = 0; x < w; ++x) {
-      const int xl = x > 0 ? x - 1 : x, xr = x < w - 1 ? x + 1 : x;
-      const float sx = (x > 0 && x < w - 1) ? 0.5f : 1.f;
+    const auto pixel = [&](int x, int xl, int xr, float sx) {
       o[x] = {ToFixedValue(r[x]), ToFixedGradient(sx * (r[xr] - r[xl])), ToFixedGradient(sy * (down[x] - up[x]))};
-    }
-  }
+    };
+    pixel(0, 0, std::min(1, w - 1), 1.f);
+    for (int x = 1; x < w - 1; ++x) pixel(x, x - 1, x + 1, 0.5f);
+    if (w > 1) pixel(w - 1, w - 2, w - 1, 1.f);
+  });
   return out;
 }
 

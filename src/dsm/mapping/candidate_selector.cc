@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "dsm/util/check.h"
 #include "dsm/util/median.h"
 
@@ -20,13 +22,31 @@ namespace {
 
 constexpr int kBlock = 32;
 
-// |N * I| at (x, y) with the noise kernel N = [1 -2 1; -2 4 -2; 1 -2 1]: N annihilates constant
-// and linear intensity (and most smooth shading), so on a block without strong edges its response
-// is image noise, with standard deviation 6 sigma (sum of N's squared entries: 36).
-float NoiseResponse(const ImagePyramid& image, int x, int y) {
-  const auto I = [&](int u, int v) { return image.Value(0, u, v); };
-  return std::abs(I(x - 1, y - 1) - 2.f * I(x, y - 1) + I(x + 1, y - 1) - 2.f * I(x - 1, y) + 4.f * I(x, y) -
-                  2.f * I(x + 1, y) + I(x - 1, y + 1) - 2.f * I(x, y + 1) + I(x + 1, y + 1));
+// |N * I| at (x, y) of level-0 intensities `I` with the noise kernel N = [1 -2 1; -2 4 -2; 1 -2 1]:
+// N annihilates constant and linear intensity (and most smooth shading), so on a block without
+// strong edges its response is image noise, with standard deviation 6 sigma (sum of N's squared
+// entries: 36).
+float NoiseResponse(const Image<float>& I, int x, int y) {
+  const float* a = I.Row(y - 1) + x;
+  const float* b = I.Row(y) + x;
+  const float* c = I.Row(y + 1) + x;
+  return std::abs(a[-1] - 2.f * a[0] + a[1] - 2.f * b[-1] + 4.f * b[0] - 2.f * b[1] + c[-1] - 2.f * c[0] + c[1]);
+}
+
+// Per level-0 pixel: its intensity and its gradient magnitude |grad I| (rows in parallel).
+struct Level0 {
+  Image<float> value, gradient;
+};
+Level0 ReadLevel0(const ImagePyramid& image) {
+  const int w = image.width(0), h = image.height(0);
+  Level0 out{Image<float>(w, h), Image<float>(w, h)};
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      out.value(x, y) = image.Value(0, x, y);
+      out.gradient(x, y) = image.At(0, x, y).tail<2>().norm();
+    }
+  });
+  return out;
 }
 
 // Averages each block's value with its 3 x 3 neighbouring blocks.
@@ -48,27 +68,26 @@ Image<float> SmoothBlocks(const Image<float>& raw) {
   return smooth;
 }
 
-}  // namespace
-
-BlockThresholds ComputeBlockThresholds(const ImagePyramid& image, const CandidateSelectorOptions& options) {
-  const int w = image.width(0), h = image.height(0);
+BlockThresholds BlockThresholdsOf(const Level0& image, const CandidateSelectorOptions& options) {
+  const int w = image.value.width(), h = image.value.height();
   const int bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
   Image<float> select(bw, bh), noise(bw, bh);
-  std::vector<float> g, n;
-  for (int by = 0; by < bh; ++by) {
+  // Rows of blocks in parallel (each block on its own).
+  tbb::parallel_for(0, bh, [&](int by) {
+    std::vector<float> g, n;
     for (int bx = 0; bx < bw; ++bx) {
       g.clear();
       n.clear();
       for (int y = by * kBlock; y < std::min(h, (by + 1) * kBlock); ++y)
         for (int x = bx * kBlock; x < std::min(w, (bx + 1) * kBlock); ++x) {
-          g.push_back(image.At(0, x, y).tail<2>().norm());
-          if (x > 0 && y > 0 && x < w - 1 && y < h - 1) n.push_back(NoiseResponse(image, x, y));
+          g.push_back(image.gradient(x, y));
+          if (x > 0 && y > 0 && x < w - 1 && y < h - 1) n.push_back(NoiseResponse(image.value, x, y));
         }
       select(bx, by) = Median(g) + options.threshold_margin;
       // sigma = median |N * I| / (6 * 0.6745) (the median of a half-normal is 0.6745 sigma).
       noise(bx, by) = n.empty() ? 0.f : Median(n) / (6.f * 0.6745f);
     }
-  }
+  });
   BlockThresholds t;
   t.noise_sigma = SmoothBlocks(noise);
   t.select = SmoothBlocks(select);
@@ -84,12 +103,10 @@ BlockThresholds ComputeBlockThresholds(const ImagePyramid& image, const Candidat
   return t;
 }
 
-namespace {
-
-std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const BlockThresholds& thresholds, int step,
+std::vector<SelectedPixel> SelectWithStep(const Image<float>& gradient, const BlockThresholds& thresholds, int step,
                                           int border, const Image<uint8_t>* mask) {
   std::vector<SelectedPixel> out;
-  const int w = image.width(0), h = image.height(0);
+  const int w = gradient.width(), h = gradient.height();
   for (int cy = border; cy < h - border; cy += step) {
     for (int cx = border; cx < w - border; cx += step) {
       // Level 0: the strongest pixel above its block threshold; else a weaker one (coarser detail).
@@ -98,7 +115,7 @@ std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const Block
       for (int y = cy; y < std::min(cy + step, h - border); ++y) {
         for (int x = cx; x < std::min(cx + step, w - border); ++x) {
           if (mask && !(*mask)(x, y)) continue;
-          const float g = image.At(0, x, y).tail<2>().norm();
+          const float g = gradient(x, y);
           const int bx = x / kBlock, by = y / kBlock;
           const float thr = thresholds.select(bx, by);
           if (g > thr && g > best) best = g, best_px = Eigen::Vector2f(x, y);
@@ -118,15 +135,20 @@ std::vector<SelectedPixel> SelectWithStep(const ImagePyramid& image, const Block
 
 }  // namespace
 
+BlockThresholds ComputeBlockThresholds(const ImagePyramid& image, const CandidateSelectorOptions& options) {
+  return BlockThresholdsOf(ReadLevel0(image), options);
+}
+
 std::vector<SelectedPixel> SelectCandidates(const ImagePyramid& image, const CandidateSelectorOptions& options,
                                             const Image<uint8_t>* valid_mask) {
-  const BlockThresholds thresholds = ComputeBlockThresholds(image, options);
+  const Level0 level0 = ReadLevel0(image);
+  const BlockThresholds thresholds = BlockThresholdsOf(level0, options);
   // Start from the step that would give the target on a fully textured image, then adapt.
   const double area = static_cast<double>(image.width(0)) * image.height(0);
   double step = std::max(2.0, std::sqrt(area / options.target_count));
   std::vector<SelectedPixel> best;
   for (int attempt = 0; attempt < 6; ++attempt) {
-    std::vector<SelectedPixel> sel = SelectWithStep(image, thresholds, static_cast<int>(std::lround(step)),
+    std::vector<SelectedPixel> sel = SelectWithStep(level0.gradient, thresholds, static_cast<int>(std::lround(step)),
                                                     options.border, valid_mask);
     const double ratio = static_cast<double>(sel.size()) / options.target_count;
     if (best.empty() || std::abs(ratio - 1.0) < std::abs(static_cast<double>(best.size()) / options.target_count - 1.0))
