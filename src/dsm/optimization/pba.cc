@@ -61,13 +61,15 @@ struct ObsState {
   // approximates.
   std::array<bool, 2> enabled{true, true};
   std::array<PatternValues, 2> weight_g{};
+  // Its weighted residuals sqrt(w_g) r at that linearisation's state; valid: it projected.
+  std::array<bool, 2> valid{false, false};
+  std::array<PatternValues, 2> residual{};
   int x = -1, y = -1;  // Where it last projected at this level (for prefetching); -1: not yet.
 };
 
 struct PointState {
   int id = -1;
   int host = -1;        // Problem camera index.
-  int first_obs = 0;    // Index of its first observation in the problem's flat observation order.
   HostPatch patch;
   bool patch_ok = false;
   std::vector<ObsState> obs;
@@ -141,7 +143,6 @@ class Problem {
         ps.obs.push_back({index[o->target]});
       }
       if (!ps.obs.empty()) {
-        ps.first_obs = num_obs_;
         num_obs_ += static_cast<int>(ps.obs.size());
         points_.push_back(std::move(ps));
       }
@@ -181,13 +182,10 @@ class Problem {
 
   // Fits each camera's error model to the current residuals of the observations in it. Residuals
   // are gathered in parallel chunks and concatenated in point order; the fits run in parallel per
-  // camera: the result is that of the sequential loop. The weighted residuals of every observation
-  // are kept for MarkOutliers.
+  // camera: the result is that of the sequential loop.
   void FitModels() {
     UpdatePairs();
     const size_t n = cams_.size();
-    fit_valid_.assign(num_obs_, 0);
-    fit_residuals_.resize(num_obs_);
     std::vector<std::vector<std::vector<float>>> chunk_residuals(kChunks, std::vector<std::vector<float>>(n));
     tbb::parallel_for(0, kChunks, [&](int chunk) {
       const size_t begin = points_.size() * chunk / kChunks, end = points_.size() * (chunk + 1) / kChunks;
@@ -195,29 +193,32 @@ class Problem {
         PointState& ps = points_[i];
         if (i + 1 < end) Prefetch(i + 1);
         if (!ps.patch_ok) continue;
-        for (size_t j = 0; j < ps.obs.size(); ++j) {
-          ObsState& o = ps.obs[j];
+        for (ObsState& o : ps.obs) {
           ObservationResiduals res;
           if (!Evaluate(ps, o, false, &res)) continue;
           Remember(res, &o);
           std::vector<float>& out = chunk_residuals[chunk][o.target];
-          PatternValues& kept = fit_residuals_[ps.first_obs + j];
-          for (int k = 0; k < kPatternSize; ++k) {
-            kept[k] = std::sqrt(res.weight_g[k]) * res.r[k];
-            out.push_back(kept[k]);
-          }
-          fit_valid_[ps.first_obs + j] = 1;
+          for (int k = 0; k < kPatternSize; ++k) out.push_back(std::sqrt(res.weight_g[k]) * res.r[k]);
         }
       }
     });
-    tbb::parallel_for(size_t{0}, n, [&](size_t c) {
-      std::vector<float> residuals;
-      for (int chunk = 0; chunk < kChunks; ++chunk) {
-        residuals.insert(residuals.end(), chunk_residuals[chunk][c].begin(), chunk_residuals[chunk][c].end());
+    FitFromChunks(chunk_residuals);
+  }
+
+  // The same fit from the residuals of the accepted linearisation, which was made at the current
+  // state (a rejected step restores it): after the last level, without another pass.
+  void FitModelsFromLinearization() {
+    const size_t n = cams_.size();
+    std::vector<std::vector<std::vector<float>>> chunk_residuals(1, std::vector<std::vector<float>>(n));
+    for (const PointState& ps : points_) {
+      if (!ps.patch_ok) continue;
+      for (const ObsState& o : ps.obs) {
+        if (!o.valid[current_]) continue;
+        std::vector<float>& out = chunk_residuals[0][o.target];
+        out.insert(out.end(), o.residual[current_].begin(), o.residual[current_].end());
       }
-      models_[c] = FitErrorModel(residuals, options_.robust);
-    });
-    for (size_t c = 0; c < n; ++c) map_->keyframe(cams_[c]).error_model = models_[c];
+    }
+    FitFromChunks(chunk_residuals);
   }
 
   // Builds the normal equations at the current state and accepts them as the linearisation the
@@ -333,8 +334,8 @@ class Problem {
            max_a < options_.max_a_step && max_b < options_.max_b_step;
   }
 
-  // After the PBA: marks observations with too many bad pixels (level 0, fitted models).
-  // Uses the residuals of the last FitModels (and the models it fitted).
+  // After the PBA: marks observations with too many bad pixels (level 0, fitted models), by the
+  // residuals of the accepted linearisation (and the models fitted to them).
   int MarkOutliers() {
     int removed = 0;
     for (PointState& ps : points_) {
@@ -342,9 +343,9 @@ class Problem {
       for (size_t j = 0; j < ps.obs.size(); ++j) {
         const ObsState& o = ps.obs[j];
         int bad = kPatternSize;
-        if (fit_valid_[ps.first_obs + j]) {
+        if (ps.patch_ok && o.valid[current_]) {
           bad = 0;
-          for (float r : fit_residuals_[ps.first_obs + j]) bad += models_[o.target].IsOutlier(r);
+          for (float r : o.residual[current_]) bad += models_[o.target].IsOutlier(r);
         }
         Observation* obs = p.FindObservation(cams_[o.target]);
         if (bad > options_.drop_outlier_ratio * kPatternSize) {
@@ -448,6 +449,16 @@ class Problem {
     return EvaluateObservation(ps.patch, in, derivatives, res);
   }
 
+  // Per camera: its residuals, concatenated over the chunks in order, and its model fitted to them.
+  void FitFromChunks(const std::vector<std::vector<std::vector<float>>>& chunk_residuals) {
+    tbb::parallel_for(size_t{0}, cams_.size(), [&](size_t c) {
+      std::vector<float> residuals;
+      for (const auto& chunk : chunk_residuals) residuals.insert(residuals.end(), chunk[c].begin(), chunk[c].end());
+      models_[c] = FitErrorModel(residuals, options_.robust);
+    });
+    for (size_t c = 0; c < cams_.size(); ++c) map_->keyframe(cams_[c]).error_model = models_[c];
+  }
+
   // Robust energy of the 8 pixels; counts pixels above the inlier threshold into *bad.
   static double PixelEnergy(const PatternValues& residuals, const PatternValues& weight_g, const ErrorModel& model,
                             int* bad) {
@@ -478,6 +489,7 @@ class Problem {
       const PairGeometry& g = pairs_[o.pair];
       if (!Evaluate(ps, o, g.slot >= 0 ? Derivatives::kAll : Derivatives::kIdepth, &res)) {
         if (o.enabled[cur]) *judged += InvalidEnergy(model);
+        o.valid[trial] = false;
         o.enabled[trial] = true;
         o.weight_g[trial] = o.weight_g[cur];  // Kept from the last linearisation that had them.
         energy += InvalidEnergy(model);
@@ -485,6 +497,8 @@ class Problem {
       }
       if (o.enabled[cur]) *judged += PixelEnergy(res.r, o.weight_g[cur], model, nullptr);
       o.weight_g[trial] = res.weight_g;
+      o.valid[trial] = true;
+      for (int k = 0; k < kPatternSize; ++k) o.residual[trial][k] = std::sqrt(res.weight_g[k]) * res.r[k];
       Remember(res, &o);
       int bad = 0;
       const double e = PixelEnergy(res.r, res.weight_g, model, &bad);
@@ -530,8 +544,6 @@ class Problem {
   std::vector<int> chunk_slots_;                              // Accumulators per chunk.
   std::vector<std::vector<std::pair<int, int>>> slot_chunks_;  // Per slot: (chunk, local index), chunk order.
   int num_obs_ = 0;
-  std::vector<uint8_t> fit_valid_;             // Per observation: evaluated by the last FitModels.
-  std::vector<PatternValues> fit_residuals_;   // Its weighted residuals sqrt(w_g) r.
   int current_ = 0;  // Slot of the accepted linearisation in ObsState.
   int level_ = 0;
   PinholeCamera level_camera_;
@@ -577,7 +589,7 @@ PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>&
     }
     summary.final_energy = energy;
   }
-  problem.FitModels();  // At level 0, where the loop ended.
+  problem.FitModelsFromLinearization();  // At level 0, where the loop ended.
   summary.observations_removed = problem.MarkOutliers();
   summary.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return summary;
