@@ -14,6 +14,7 @@
 #include "dsm/geometry/undistorter.h"
 #include "dsm/io/trajectory_io.h"
 #include "dsm/run/debug_writer.h"
+#include "dsm/run/frame_reader.h"
 #include "dsm/system/system.h"
 #include "dsm/util/check.h"
 
@@ -86,7 +87,11 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   const auto release = [&](int i) {
     return process0 + std::chrono::nanoseconds(dataset.frames[i].t_ns - dataset.frames[options.start].t_ns);
   };
-  std::vector<double> latency_ms;  // Frame release (free, sequential: the start of its reading) to pose.
+  // Free and sequential paces: frames read ahead on the reader's thread. Realtime: a frame is read
+  // once released (a live camera cannot be read ahead).
+  std::optional<FrameReader> reader;
+  if (options.pace != Pace::kRealtime) reader.emplace(dataset, undistorter, options.start, end, 2);
+  std::vector<double> latency_ms;  // Frame release (free, sequential: the reader hands it over) to pose.
   int dropped = 0;
   for (int i = options.start; i < end; ++i) {
     auto released = std::chrono::steady_clock::now();
@@ -100,10 +105,9 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       if (release(i) > released) std::this_thread::sleep_until(release(i));
       released = release(i);
     }
-    const Image<uint8_t> raw = dataset.LoadImage(i);
-    const Image<float> irradiance = dataset.photometric ? dataset.photometric->ToIrradiance(raw) : ToFloat(raw);
-    const FrameReport r = system.Process(i, dataset.frames[i].t_ns, undistorter.Apply(irradiance),
-                                         dataset.frames[i].exposure_ms);
+    const Image<float> image = reader ? reader->Take(i) : ReadFrame(dataset, undistorter, i);
+    if (reader) released = std::chrono::steady_clock::now();
+    const FrameReport r = system.Process(i, dataset.frames[i].t_ns, image, dataset.frames[i].exposure_ms);
     latency_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - released).count());
     if (debug && r.keyframe) debug->AddKeyframes(system);
     if (!options.quiet && (r.keyframe || r.status == TrackingStatus::kLost)) {

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/run/frame_reader.h"
+
+#include "dsm/util/check.h"
+
+namespace dsm {
+
+Image<float> ReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i) {
+  const Image<uint8_t> raw = dataset.LoadImage(i);
+  const Image<float> irradiance = dataset.photometric ? dataset.photometric->ToIrradiance(raw) : ToFloat(raw);
+  return undistorter.Apply(irradiance);
+}
+
+FrameReader::FrameReader(const Dataset& dataset, const Undistorter& undistorter, int start, int end, int depth)
+    : dataset_(dataset), undistorter_(undistorter), start_(start), end_(end), depth_(depth) {
+  DSM_CHECK(depth >= 1, "the reader needs a buffer");
+  thread_ = std::thread([this] { Loop(); });
+}
+
+FrameReader::~FrameReader() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  space_.notify_all();
+  thread_.join();
+}
+
+void FrameReader::Loop() {
+  for (int i = start_; i < end_; ++i) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      space_.wait(lock, [this] { return stop_ || static_cast<int>(frames_.size()) < depth_; });
+      if (stop_) return;
+    }
+    bool failed = false;
+    try {
+      Image<float> image = ReadFrame(dataset_, undistorter_, i);
+      std::lock_guard<std::mutex> lock(mutex_);
+      frames_.emplace_back(i, std::move(image));
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      error_ = std::current_exception();
+      failed = true;
+    }
+    ready_.notify_one();
+    if (failed) return;
+  }
+}
+
+Image<float> FrameReader::Take(int index) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  ready_.wait(lock, [this] { return !frames_.empty() || error_ != nullptr; });
+  if (frames_.empty()) std::rethrow_exception(error_);
+  DSM_CHECK(frames_.front().first == index, "frames are taken in order");
+  Image<float> image = std::move(frames_.front().second);
+  frames_.pop_front();
+  lock.unlock();
+  space_.notify_one();
+  return image;
+}
+
+}  // namespace dsm

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+// Frames as the system takes them: read (decoded), photometrically corrected and undistorted.
+//
+// FrameReader does this on its own thread, up to `depth` frames ahead of the consumer, as a camera
+// driver fills its buffers while the last frame is processed: decoding and undistortion (about
+// half a frame's time at 752x480) overlap tracking instead of adding to it. Frames are taken in
+// order; a frame that cannot be read rethrows its error when it is taken.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <utility>
+
+#include "dsm/geometry/undistorter.h"
+#include "dsm/image/image.h"
+#include "dsm/io/dataset.h"
+
+namespace dsm {
+
+// Frame i of `dataset`, ready for System::Process.
+Image<float> ReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i);
+
+class FrameReader {
+ public:
+  // Reads frames start .. end-1 (the dataset and undistorter must outlive the reader).
+  FrameReader(const Dataset& dataset, const Undistorter& undistorter, int start, int end, int depth);
+  ~FrameReader();  // Stops reading and joins.
+  FrameReader(const FrameReader&) = delete;
+  FrameReader& operator=(const FrameReader&) = delete;
+
+  // Frame `index` (the next one in order), once read; rethrows the error of reading it.
+  Image<float> Take(int index);
+
+ private:
+  void Loop();
+
+  const Dataset& dataset_;
+  const Undistorter& undistorter_;
+  const int start_, end_, depth_;
+  std::mutex mutex_;
+  std::condition_variable space_, ready_;
+  std::deque<std::pair<int, Image<float>>> frames_;  // Read, not taken yet, in order.
+  std::exception_ptr error_;  // Of the frame after the last one in frames_.
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+}  // namespace dsm
