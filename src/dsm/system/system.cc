@@ -128,9 +128,22 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, 
 }
 
 void System::Submit(MappingJob job) {
-  if (!mapping_thread_) return RunJob(job);
-  const bool keyframe = job.keyframe >= 0;
-  mapping_thread_->Submit([this, job = std::move(job)] { RunJob(job); }, keyframe);
+  const int kf = job.keyframe;
+  if (!mapping_thread_) {
+    RunJob(job);
+    if (kf >= 0) RunFinishJob(kf);
+    return;
+  }
+  // A keyframe is done for the tracking side once its reference is published (the first job);
+  // its candidates are selected after, while tracking goes on (the second, before any later job).
+  mapping_thread_->Submit([this, job = std::move(job)] { RunJob(job); }, kf >= 0);
+  if (kf >= 0) mapping_thread_->Submit([this, kf] { RunFinishJob(kf); }, false);
+}
+
+void System::RunFinishJob(int kf) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FinishKeyframe(kf);
+  stats_.mapping_ms.push_back(keyframe_ms_ + MsSince(t0));
 }
 
 void System::RunJob(const MappingJob& job) {
@@ -147,7 +160,7 @@ void System::RunJob(const MappingJob& job) {
   MapNewKeyframe(kf);
   stats_.per_keyframe.back().tracking_rmse = job.rmse;
   stats_.per_keyframe.back().tracking_inlier_ratio = job.inlier_ratio;
-  stats_.mapping_ms.push_back(MsSince(t0));
+  keyframe_ms_ = MsSince(t0);
 }
 
 void System::UpdateReference(bool wait) {
@@ -248,6 +261,7 @@ void System::StartMap(const InitResult& init) {
                   0.0, last.exposure);
   frames_.push_back({first.t_ns, 0, SE3d()});
   MapNewKeyframe(1);
+  FinishKeyframe(1);
   next_keyframe_ = 2;
   last_frame_keyframe_ = 1;
   UpdateReference(false);

@@ -9,7 +9,8 @@
 // (one keyframe leaves), old keyframes covisible with it join the window (DSM mode) with their
 // points' re-observations, candidates are activated where the view is still depleted, the
 // photometric bundle adjustment runs over the window, points are culled, and the tracking side
-// gets the keyframe as its new reference.
+// gets the keyframe as its new reference; then the keyframe's own candidates are selected (the
+// tracking side goes on meanwhile: nothing it reads depends on them).
 //
 // With SystemOptions::threaded false (the default) the mapping work runs inside Process: every
 // keyframe is mapped before the next frame, and the output is deterministic. With it true the
@@ -154,12 +155,17 @@ class System {
   void UpdateReference(bool wait);
   void Submit(MappingJob job);
   // Mapping side.
-  void RunJob(const MappingJob& job);
+  void RunJob(const MappingJob& job);  // Traces candidates; maps the frame when it is a keyframe.
+  void RunFinishJob(int kf);           // FinishKeyframe, timed.
   void TraceCandidates(const ImagePyramid& pyramid, int reference, const SE3d& frame_from_reference, double alpha,
                        double beta, double exposure);
   void CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                       const SE3d& cam_from_world, const AffineBrightness& affine);
+  // Maps keyframe kf and publishes it as the tracking reference.
   void MapNewKeyframe(int kf);
+  // What the tracking reference does not need, done after it is published: kf's candidates (traced
+  // in the frames that follow) and the release of pyramids no longer used.
+  void FinishKeyframe(int kf);
   // Candidates activated where no active point seen in `newest` (SeenIn) nor old map point is near.
   void ActivateCandidates(int newest);
   // Per point of `ids`: 1 when it projects into `target` and looks consistent there
@@ -181,6 +187,7 @@ class System {
   std::vector<Eigen::Vector2f> old_pixels_;  // Newest-keyframe pixels of old, unselected map points.
   std::map<int, std::vector<Candidate>> candidates_;
   float min_activation_distance_px_;
+  double keyframe_ms_ = 0.0;  // The last keyframe's mapping time up to its publication.
   // Handed from the mapping side to the tracking side.
   mutable std::mutex reference_mutex_;
   std::shared_ptr<const TrackingReference> published_;

@@ -101,8 +101,11 @@ void System::MapNewKeyframe(int kf) {
   log.observations_removed = pba.observations_removed;
   stats_.pba_ms.push_back(pba.time_ms);
   log.points_culled = CullPoints();
-  SelectCandidates(kf);
   PublishTrackingReference();
+}
+
+void System::FinishKeyframe(int kf) {
+  SelectCandidates(kf);
   // Keyframes keep their pyramids while a recent mapping step used them.
   map_.ReleaseUnusedPyramids(options_.keep_pyramid_keyframes);
   stats_.pyramids_loaded_max = std::max(stats_.pyramids_loaded_max, map_.NumLoadedPyramids());
