@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/run/frame_reader.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -27,6 +31,9 @@ FrameReader::~FrameReader() {
 }
 
 void FrameReader::Loop() {
+  // Below the tracking and mapping threads (nice 10, this thread only): reading fills their idle
+  // time instead of taking a core from them. Best effort: a failure leaves the default priority.
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
   for (int i = start_; i < end_; ++i) {
     {
       std::unique_lock<std::mutex> lock(mutex_);

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Frames as the system takes them: read (decoded), photometrically corrected and undistorted.
 //
-// FrameReader does this on its own thread, up to `depth` frames ahead of the consumer, as a camera
-// driver fills its buffers while the last frame is processed: decoding and undistortion (about
-// half a frame's time at 752x480) overlap tracking instead of adding to it. Frames are taken in
-// order; a frame that cannot be read rethrows its error when it is taken.
+// FrameReader does this on its own thread (at a lower priority), up to `depth` frames ahead of the
+// consumer, as a camera driver fills its buffers while the last frame is processed: decoding and
+// undistortion (about half a frame's time at 752x480) overlap tracking instead of adding to it.
+// Frames are taken in order; a frame that cannot be read rethrows its error when it is taken.
 #pragma once
 
 #include <condition_variable>
