@@ -200,6 +200,7 @@ void System::Finish() {
   if (mapping_thread_) {
     mapping_thread_->WaitUntilIdle();
     stats_.keyframe_queue_max = mapping_thread_->KeyframeQueueMax();
+    MergeInitTracked();
   }
 }
 
@@ -261,30 +262,54 @@ void System::StartMap(const InitResult& init) {
                   0.0, last.exposure);
   frames_.push_back({first.t_ns, 0, SE3d()});
   MapNewKeyframe(1);
-  FinishKeyframe(1);
+  // From here on the map is the mapping side's: what is left of keyframe 1 (its candidates) and
+  // the frames between the two keyframes (tracked against keyframe 1; only their poses are output)
+  // run there, so that a live camera's next frame does not wait for them.
+  RunOnMappingSide([this] { FinishKeyframe(1); });
   next_keyframe_ = 2;
   last_frame_keyframe_ = 1;
   UpdateReference(false);
   stats_.frames_tracked += 2;
 
-  // The frames between the two keyframes, tracked now against keyframe 1.
   const int k = static_cast<int>(pending_.size()) - 1;
   const SE3d kf1_from_kf0 = init.current_from_reference;
-  for (int i = 1; i < k; ++i) {
-    const SE3d guess = Scale(kf1_from_kf0, static_cast<double>(i) / k) * kf1_from_kf0.Inverse();
-    const TrackResult r = tracker_->Track(*pending_[i].pyramid, guess, 0.0, 0.0);
-    if (r.ok) {
-      ++stats_.frames_tracked;
-      frames_.push_back({pending_[i].t_ns, 1, r.frame_from_keyframe});
-    } else {
-      frames_.push_back({pending_[i].t_ns, -1, SE3d()});
+  std::vector<PendingFrame> between(pending_.begin() + 1, pending_.begin() + std::max(1, k));
+  for (const PendingFrame& p : between) frames_.push_back({p.t_ns, -1, SE3d()});
+  RunOnMappingSide([this, between, kf1_from_kf0, k, ref = reference_] {
+    FrameTracker tracker(options_.tracker);
+    tracker.SetReference(ref->pyramid.get(), camera_, ref->points);
+    for (size_t i = 0; i < between.size(); ++i) {
+      const SE3d guess = Scale(kf1_from_kf0, static_cast<double>(i + 1) / k) * kf1_from_kf0.Inverse();
+      const TrackResult r = tracker.Track(*between[i].pyramid, guess, 0.0, 0.0);
+      init_tracked_.push_back({between[i].t_ns, r.ok, r.frame_from_keyframe});
     }
-  }
+  });
   frames_.push_back({last.t_ns, 1, SE3d()});
   std::stable_sort(frames_.begin(), frames_.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   velocity_ = k > 0 ? Scale(kf1_from_kf0, 1.0 / k) : SE3d();
   last_exposure_ = last.exposure;
   pending_.clear();
+  if (!mapping_thread_) MergeInitTracked();
+}
+
+void System::RunOnMappingSide(std::function<void()> job) {
+  if (mapping_thread_) {
+    mapping_thread_->Submit(std::move(job), false);
+  } else {
+    job();
+  }
+}
+
+void System::MergeInitTracked() {
+  for (const InitTracked& t : init_tracked_) {
+    if (!t.ok) continue;
+    const auto it = std::lower_bound(frames_.begin(), frames_.end(), t.t_ns,
+                                     [](const FrameRecordInternal& f, int64_t v) { return f.t_ns < v; });
+    DSM_CHECK(it != frames_.end() && it->t_ns == t.t_ns, "an initialisation frame has no record");
+    *it = {t.t_ns, 1, t.frame_from_kf1};
+    ++stats_.frames_tracked;
+  }
+  init_tracked_.clear();
 }
 
 bool System::TrackFrame(const ImagePyramid& pyramid, double exposure, TrackResult* result) {

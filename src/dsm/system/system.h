@@ -22,6 +22,7 @@
 // it once the pending one is mapped: at most one keyframe is in flight.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -154,6 +155,11 @@ class System {
   // when `wait`), and moves the last frame's pose and brightness onto it.
   void UpdateReference(bool wait);
   void Submit(MappingJob job);
+  // A job of the mapping side, after the ones handed over before (inline when sequential).
+  void RunOnMappingSide(std::function<void()> job);
+  // The initialisation frames the mapping side tracked, into the frame records (tracking side;
+  // threaded: once the mapping side is idle).
+  void MergeInitTracked();
   // Mapping side.
   void RunJob(const MappingJob& job);  // Traces candidates; maps the frame when it is a keyframe.
   void RunFinishJob(int kf);           // FinishKeyframe, timed.
@@ -201,6 +207,13 @@ class System {
   int last_frame_keyframe_ = -1;  // The keyframe made from the last tracked frame, if any.
   bool want_keyframe_ = false;    // The last frame wanted a keyframe while one was pending.
   std::vector<FrameRecordInternal> frames_;
+  // Frames between the two initial keyframes as the mapping side tracked them against keyframe 1.
+  struct InitTracked {
+    int64_t t_ns = 0;
+    bool ok = false;
+    SE3d frame_from_kf1;
+  };
+  std::vector<InitTracked> init_tracked_;  // Written by the mapping side, merged by MergeInitTracked.
   SE3d last_frame_from_reference_, velocity_;  // velocity: last frame motion (frame_from_previous)
   double last_alpha_ = 0.0, last_beta_ = 0.0;  // Brightness of the last frame relative to the reference.
   double last_exposure_ = 1.0;
