@@ -104,7 +104,7 @@ jobs_list=()
 for s in $SEQUENCES; do
   while read -r name d extra; do
     for c in $CONFIGS; do
-      jobs_list+=("$DSM run $d $extra --out $WORK/run_${name}_$c --quiet $(args_for "$c") > $WORK/run_${name}_$c.log 2>&1")
+      jobs_list+=("$DSM run $d $extra --sequential --out $WORK/run_${name}_$c --quiet $(args_for "$c") > $WORK/run_${name}_$c.log 2>&1")
     done
   done < <(runs_for "$s")
 done
