@@ -14,7 +14,8 @@
 #            also of points hidden by nearer map points), all-reference (the tracker also uses
 #            points without a verified observation in the keyframe), no-noise-floor (candidates
 #            also where the gradient is at the image noise's level), two-view (the initialiser
-#            re-tracks its corners from the reference image and refines RANSAC's motion on all inliers)
+#            re-tracks its corners from the reference image and refines RANSAC's motion on all inliers),
+#            free-sigma (each keyframe's error model fitted without the bound on its scale)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -28,7 +29,7 @@ cd "$(dirname "$0")/.."
 JOBS=1
 SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure orbit euroc room"
-CONFIGS="dsm sw nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor two-view"
+CONFIGS="dsm sw nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor two-view free-sigma"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -55,6 +56,7 @@ printf 'occlusion:\n  enabled: false\n' > "$WORK/no-occlusion.yaml"
 printf 'tracker:\n  verified_reference: false\n' > "$WORK/all-reference.yaml"
 printf 'candidates:\n  noise_factor: 0\n' > "$WORK/no-noise-floor.yaml"
 printf 'initializer:\n  track_from_reference: true\n  refine_motion: true\n' > "$WORK/two-view.yaml"
+printf 'pba:\n  max_sigma_ratio: 0\n' > "$WORK/free-sigma.yaml"
 
 args_for() {
   case "$1" in
@@ -68,7 +70,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | two-view) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | two-view | free-sigma) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac

@@ -77,6 +77,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["pba.outside_observations_per_point"] = Set(&o->pba.outside_observations_per_point);
   s["pba.drop_outlier_ratio"] = Set(&o->pba.drop_outlier_ratio);
   s["pba.skip_outlier_ratio"] = Set(&o->pba.skip_outlier_ratio);
+  s["pba.max_sigma_ratio"] = Set(&o->pba.max_sigma_ratio);
   // The robust function applies to the bundle adjustment and the tracker alike.
   s["robust.function"] = [o](const YAML::Node& n) {
     const RobustKind kind = ParseRobustKind(n.as<std::string>(), "robust.function");

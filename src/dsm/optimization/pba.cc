@@ -10,6 +10,7 @@
 
 #include "dsm/optimization/normal_equations.h"
 #include "dsm/util/check.h"
+#include "dsm/util/median.h"
 
 namespace dsm {
 
@@ -21,6 +22,7 @@ void PbaOptions::Validate() const {
   if (max_outside_keyframes < 0) throw InputError("pba.max_outside_keyframes must be non-negative");
   if (outside_observations_per_point < 0) throw InputError("pba.outside_observations_per_point must be non-negative");
   if (min_camera_observations < 0) throw InputError("pba.min_camera_observations must be non-negative");
+  if (!(max_sigma_ratio == 0 || max_sigma_ratio >= 1)) throw InputError("pba.max_sigma_ratio must be 0 or at least 1");
   if (!(drop_outlier_ratio > 0 && drop_outlier_ratio <= skip_outlier_ratio && skip_outlier_ratio <= 1))
     throw InputError("pba outlier ratios must satisfy 0 < drop <= skip <= 1");
   robust.Validate();
@@ -450,12 +452,26 @@ class Problem {
   }
 
   // Per camera: its residuals, concatenated over the chunks in order, and its model fitted to them.
+  // Fitted scales are bounded by max_sigma_ratio times their median (pba.h).
   void FitFromChunks(const std::vector<std::vector<std::vector<float>>>& chunk_residuals) {
+    std::vector<uint8_t> fitted(cams_.size(), 0);
     tbb::parallel_for(size_t{0}, cams_.size(), [&](size_t c) {
       std::vector<float> residuals;
       for (const auto& chunk : chunk_residuals) residuals.insert(residuals.end(), chunk[c].begin(), chunk[c].end());
       models_[c] = FitErrorModel(residuals, options_.robust);
+      fitted[c] = static_cast<int>(residuals.size()) >= options_.robust.min_residuals;
     });
+    if (options_.max_sigma_ratio > 0) {
+      // The scale of the fitted models only (too few residuals keep the default model).
+      std::vector<double> sigmas;
+      for (size_t c = 0; c < cams_.size(); ++c)
+        if (fitted[c]) sigmas.push_back(models_[c].sigma);
+      if (sigmas.size() >= 3) {
+        const double cap = options_.max_sigma_ratio * Median(sigmas);
+        for (size_t c = 0; c < cams_.size(); ++c)
+          if (fitted[c]) CapErrorModelScale(cap, &models_[c]);
+      }
+    }
     for (size_t c = 0; c < cams_.size(); ++c) map_->keyframe(cams_[c]).error_model = models_[c];
   }
 

@@ -201,6 +201,14 @@ ErrorModel DefaultErrorModel(const RobustOptions& options) {
   return m;
 }
 
+void CapErrorModelScale(double max_sigma, ErrorModel* model) {
+  if (model->kind != RobustKind::kStudentT || !(model->sigma > max_sigma)) return;
+  const double f = max_sigma / model->sigma;
+  model->sigma = max_sigma;
+  model->inlier_threshold *= f;
+  model->outlier_threshold *= f;
+}
+
 double StudentTNegLogLikelihood(const std::vector<float>& r, double nu, double sigma) {
   const double n = static_cast<double>(r.size());
   const double log_norm = LogGamma(0.5 * (nu + 1.0)) - LogGamma(0.5 * nu) - 0.5 * std::log(nu * M_PI) - std::log(sigma);

@@ -107,6 +107,10 @@ ErrorModel DefaultErrorModel(const RobustOptions& options);
 // Fits the model to residuals (see above). Deterministic.
 ErrorModel FitErrorModel(const std::vector<float>& residuals, const RobustOptions& options);
 
+// Bounds the t's scale: sigma <= max_sigma, its thresholds scaled with it (both are multiples of
+// sigma for a given nu). Huber models are left as they are.
+void CapErrorModelScale(double max_sigma, ErrorModel* model);
+
 // Negative log-likelihood of residuals under t(nu, 0, sigma).
 double StudentTNegLogLikelihood(const std::vector<float>& residuals, double nu, double sigma);
 

@@ -111,5 +111,28 @@ TEST(FitErrorModel, HuberVariantsAndSmallSamples) {
   EXPECT_THROW(ParseRobustKind("cauchy", "--robust"), std::exception);
 }
 
+TEST(CapErrorModelScale, BoundsSigmaAndScalesTheThresholdsWithIt) {
+  ErrorModel m;
+  m.nu = 1.5;
+  m.sigma = 20.0;
+  m.inlier_threshold = 90.0;
+  m.outlier_threshold = 120.0;
+  CapErrorModelScale(5.0, &m);
+  EXPECT_DOUBLE_EQ(m.sigma, 5.0);
+  EXPECT_DOUBLE_EQ(m.nu, 1.5);
+  EXPECT_DOUBLE_EQ(m.inlier_threshold, 22.5);
+  EXPECT_DOUBLE_EQ(m.outlier_threshold, 30.0);
+  // A scale within the bound and a Huber model are left as they are.
+  ErrorModel within = m;
+  CapErrorModelScale(8.0, &within);
+  EXPECT_DOUBLE_EQ(within.sigma, 5.0);
+  EXPECT_DOUBLE_EQ(within.inlier_threshold, 22.5);
+  ErrorModel huber;
+  huber.kind = RobustKind::kHuberFixed;
+  huber.sigma = 20.0;
+  CapErrorModelScale(5.0, &huber);
+  EXPECT_DOUBLE_EQ(huber.sigma, 20.0);
+}
+
 }  // namespace
 }  // namespace dsm

@@ -7,7 +7,9 @@
 // ATE <= 0.05% of the path (before occlusions were handled its scale collapsed: 492 mm on the
 // 22 m path). Under render noise (`loop` with Gaussian noise of 6 grey levels, about a
 // path-traced frame's) DSM's keyframe ATE stays <= 0.1% of the path (before candidates kept off
-// noise-level gradients, its scale collapsed: 1396 mm). Two sequential runs give identical output;
+// noise-level gradients, its scale collapsed: 1396 mm). On the `orbit` rendering whose pillar once
+// broke the scale (seed 5: 82 mm) DSM's keyframe ATE stays <= 0.05% of the path. Two sequential
+// runs give identical output;
 // the two-thread paces keep the sequential accuracy.
 #include <fstream>
 #include <map>
@@ -24,13 +26,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Render(const std::string& scene, int frames, double noise_sigma = 1.0) {
+fs::path Render(const std::string& scene, int frames, double noise_sigma = 1.0, uint32_t seed = 1) {
   synth::SynthOptions options;
   options.scene = scene;
   options.frames = frames;
   options.noise_sigma = noise_sigma;
-  const fs::path dir =
-      testing::ScratchDir("run_" + scene + "_" + std::to_string(frames) + "_n" + std::to_string(noise_sigma)) / "sequence";
+  options.seed = seed;
+  const fs::path dir = testing::ScratchDir("run_" + scene + "_" + std::to_string(frames) + "_n" +
+                                           std::to_string(noise_sigma) + "_s" + std::to_string(seed)) /
+                       "sequence";
   synth::WriteSequence(synth::MakeSequence(options), options, dir);
   return dir;
 }
@@ -89,17 +93,29 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SyntheticRun,
                          ::testing::Values("loop", "shake", "forward", "rotation", "exposure", "orbit"),
                          [](const ::testing::TestParamInfo<std::string>& param) { return param.param; });
 
-TEST(Run, RenderNoiseKeepsTheScale) {
-  const fs::path dir = Render("loop", 0, 6.0);
+// One sequential DSM run of a rendered sequence: every frame but 1% tracked, and keyframe ATE at
+// most `max_share_of_path` of the camera path.
+void ExpectKeepsTheScale(const fs::path& dir, const std::string& name, double max_share_of_path) {
   const Dataset dataset = OpenDataset(dir);
   RunOptions options;
   options.pace = Pace::kSequential;
   options.quiet = true;
   const RunSummary s = RunDataset(dataset, options, dir.parent_path() / "out");
-  std::printf("loop, noise 6: %s\n", s.line.c_str());
+  std::printf("%s: %s\n", name.c_str(), s.line.c_str());
   EXPECT_GE(s.stats["frames_tracked"].get<int>(), 0.99 * s.stats["frames"].get<int>());
   ASSERT_TRUE(s.eval.has_value());
-  EXPECT_LE(KeyframeAte(s), 0.001 * dataset.ground_truth.PathLength()) << "path " << dataset.ground_truth.PathLength();
+  const double path = dataset.ground_truth.PathLength();
+  EXPECT_LE(KeyframeAte(s), max_share_of_path * path) << "path " << path;
+}
+
+TEST(Run, RenderNoiseKeepsTheScale) { ExpectKeepsTheScale(Render("loop", 0, 6.0), "loop, noise 6", 0.001); }
+
+// `orbit` rendered with seed 5: as the pillar sweeps through the view (frames 394-404) a frame is
+// tracked badly and becomes a keyframe; fitted freely, its error model widened to its misaligned
+// residuals (sigma 3 -> 22 grey levels), its masks accepted the points the pillar hides, and the
+// scale broke (82 mm). With each keyframe's scale bounded by the window's median (pba.h): 2.1 mm.
+TEST(Run, NearOccluderSweepingThroughTheViewKeepsTheScale) {
+  ExpectKeepsTheScale(Render("orbit", 0, 1.0, 5), "orbit, seed 5", 0.0005);
 }
 
 TEST(Run, TwoRunsGiveIdenticalOutput) {
