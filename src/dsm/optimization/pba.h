@@ -19,7 +19,6 @@
 // observations of points hidden behind the near object; its points then become the tracking
 // reference and the scale breaks (82 mm instead of 2 mm). Three times the median leaves every
 // other synthetic scene and the shared sequences within their spread (twice: `loop` worse).
-
 // Linearisation accumulates Hessian blocks per host–target keyframe pair in parallel chunks that
 // are summed in a fixed order, so results do not depend on the thread schedule.
 #pragma once
