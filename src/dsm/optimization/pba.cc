@@ -10,7 +10,6 @@
 
 #include "dsm/optimization/normal_equations.h"
 #include "dsm/util/check.h"
-#include "dsm/util/median.h"
 
 namespace dsm {
 
@@ -461,17 +460,7 @@ class Problem {
       models_[c] = FitErrorModel(residuals, options_.robust);
       fitted[c] = static_cast<int>(residuals.size()) >= options_.robust.min_residuals;
     });
-    if (options_.max_sigma_ratio > 0) {
-      // The scale of the fitted models only (too few residuals keep the default model).
-      std::vector<double> sigmas;
-      for (size_t c = 0; c < cams_.size(); ++c)
-        if (fitted[c]) sigmas.push_back(models_[c].sigma);
-      if (sigmas.size() >= 3) {
-        const double cap = options_.max_sigma_ratio * Median(sigmas);
-        for (size_t c = 0; c < cams_.size(); ++c)
-          if (fitted[c]) CapErrorModelScale(cap, &models_[c]);
-      }
-    }
+    if (options_.max_sigma_ratio > 0) BoundErrorModelScales(options_.max_sigma_ratio, fitted, &models_);
     for (size_t c = 0; c < cams_.size(); ++c) map_->keyframe(cams_[c]).error_model = models_[c];
   }
 

@@ -209,6 +209,16 @@ void CapErrorModelScale(double max_sigma, ErrorModel* model) {
   model->outlier_threshold *= f;
 }
 
+void BoundErrorModelScales(double max_ratio, const std::vector<uint8_t>& fitted, std::vector<ErrorModel>* models) {
+  std::vector<double> sigmas;
+  for (size_t i = 0; i < models->size(); ++i)
+    if (fitted[i]) sigmas.push_back((*models)[i].sigma);
+  if (sigmas.size() < 3) return;
+  const double cap = max_ratio * Median(sigmas);
+  for (size_t i = 0; i < models->size(); ++i)
+    if (fitted[i]) CapErrorModelScale(cap, &(*models)[i]);
+}
+
 double StudentTNegLogLikelihood(const std::vector<float>& r, double nu, double sigma) {
   const double n = static_cast<double>(r.size());
   const double log_norm = LogGamma(0.5 * (nu + 1.0)) - LogGamma(0.5 * nu) - 0.5 * std::log(nu * M_PI) - std::log(sigma);

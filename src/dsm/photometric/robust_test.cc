@@ -134,5 +134,26 @@ TEST(CapErrorModelScale, BoundsSigmaAndScalesTheThresholdsWithIt) {
   EXPECT_DOUBLE_EQ(huber.sigma, 20.0);
 }
 
+TEST(BoundErrorModelScales, CapsFittedModelsAtARatioOfTheirMedianScale) {
+  std::vector<ErrorModel> models(4);
+  models[0].sigma = 2.0;
+  models[1].sigma = 3.0;
+  models[2].sigma = 20.0;
+  models[2].inlier_threshold = 40.0;
+  models[3].sigma = 50.0;  // Not fitted: neither counted nor capped.
+  BoundErrorModelScales(3.0, {1, 1, 1, 0}, &models);
+  EXPECT_DOUBLE_EQ(models[0].sigma, 2.0);
+  EXPECT_DOUBLE_EQ(models[1].sigma, 3.0);
+  EXPECT_DOUBLE_EQ(models[2].sigma, 9.0);  // 3 x the median 3.
+  EXPECT_DOUBLE_EQ(models[2].inlier_threshold, 18.0);
+  EXPECT_DOUBLE_EQ(models[3].sigma, 50.0);
+  // Fewer than three fitted models: no median to trust, nothing changes.
+  std::vector<ErrorModel> two(2);
+  two[0].sigma = 1.0;
+  two[1].sigma = 30.0;
+  BoundErrorModelScales(2.0, {1, 1}, &two);
+  EXPECT_DOUBLE_EQ(two[1].sigma, 30.0);
+}
+
 }  // namespace
 }  // namespace dsm
