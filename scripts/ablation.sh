@@ -8,14 +8,17 @@
 #   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan, each also as
 #            <scene>-noisy (rendered with image noise of 6 grey levels instead of 1), and the
 #            shared euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
-#   configs: dsm (defaults), sw (N_c = 0), nc3, nc1, nt3, nt6, levels1, levels3, huber, huber-mad,
+#   configs: dsm (defaults), sw (DSM-SW: N_t + N_c temporal keyframes), sw-short (DSM-SW with N_t
+#            alone, as before it had the window's whole size), nc3, nc1, nt3, nt6, levels1, levels3,
+#            huber, huber-mad,
 #            move-covisible (covisible poses optimised, as in the paper), global-ba,
 #            mixture (error model: the t mixed with a uniform outlier component), no-occlusion (observations
 #            also of points hidden by nearer map points), all-reference (the tracker also uses
 #            points without a verified observation in the keyframe), no-noise-floor (candidates
 #            also where the gradient is at the image noise's level), two-view (the initialiser
 #            re-tracks its corners from the reference image and refines RANSAC's motion on all inliers),
-#            free-sigma (each keyframe's error model fitted without the bound on its scale)
+#            free-sigma (each keyframe's error model fitted without the bound on its scale),
+#            smooth (frames smoothed when the first one is noisy: system.smoothing_sigma -1)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -29,7 +32,7 @@ cd "$(dirname "$0")/.."
 JOBS=1
 SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure orbit euroc room"
-CONFIGS="dsm sw nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor two-view free-sigma"
+CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor two-view free-sigma smooth"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -57,11 +60,13 @@ printf 'tracker:\n  verified_reference: false\n' > "$WORK/all-reference.yaml"
 printf 'candidates:\n  noise_factor: 0\n' > "$WORK/no-noise-floor.yaml"
 printf 'initializer:\n  track_from_reference: true\n  refine_motion: true\n' > "$WORK/two-view.yaml"
 printf 'pba:\n  max_sigma_ratio: 0\n' > "$WORK/free-sigma.yaml"
+printf 'system:\n  smoothing_sigma: -1\n' > "$WORK/smooth.yaml"
 
 args_for() {
   case "$1" in
     dsm) echo "" ;;
     sw) echo "--mode sw" ;;
+    sw-short) echo "--mode sw --nc 0" ;;
     nc3) echo "--nc 3" ;;
     nc1) echo "--nc 1" ;;
     nt3) echo "--nt 3" ;;
@@ -70,7 +75,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | two-view | free-sigma) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | two-view | free-sigma | smooth) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac

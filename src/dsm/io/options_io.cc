@@ -24,6 +24,9 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["system.pyramid_levels"] = Set(&o->pyramid_levels);
   s["system.max_initialization_frames"] = Set(&o->max_initialization_frames);
   s["system.keep_pyramid_keyframes"] = Set(&o->keep_pyramid_keyframes);
+  s["system.smoothing_sigma"] = Set(&o->smoothing_sigma);
+  s["system.smoothing_noise_threshold"] = Set(&o->smoothing_noise_threshold);
+  s["system.smoothing_auto_sigma"] = Set(&o->smoothing_auto_sigma);
   s["initializer.max_corners"] = Set(&o->initializer.max_corners);
   s["initializer.min_parallax_deg"] = Set(&o->initializer.min_parallax_deg);
   s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);

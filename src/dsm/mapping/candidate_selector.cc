@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "dsm/image/noise.h"
 #include "dsm/util/check.h"
 #include "dsm/util/median.h"
 
@@ -16,22 +17,12 @@ void CandidateSelectorOptions::Validate() const {
   if (!(threshold_margin >= 0)) throw InputError("candidates.threshold_margin must be non-negative");
   if (!(noise_factor >= 0)) throw InputError("candidates.noise_factor must be non-negative");
   if (border < 2) throw InputError("candidates.border must be at least 2");
+  if (!(noise_gradient_gain > 0)) throw InputError("candidates.noise_gradient_gain must be positive");
 }
 
 namespace {
 
-constexpr int kBlock = 32;
-
-// |N * I| at (x, y) of level-0 intensities `I` with the noise kernel N = [1 -2 1; -2 4 -2; 1 -2 1]:
-// N annihilates constant and linear intensity (and most smooth shading), so on a block without
-// strong edges its response is image noise, with standard deviation 6 sigma (sum of N's squared
-// entries: 36).
-float NoiseResponse(const Image<float>& I, int x, int y) {
-  const float* a = I.Row(y - 1) + x;
-  const float* b = I.Row(y) + x;
-  const float* c = I.Row(y + 1) + x;
-  return std::abs(a[-1] - 2.f * a[0] + a[1] - 2.f * b[-1] + 4.f * b[0] - 2.f * b[1] + c[-1] - 2.f * c[0] + c[1]);
-}
+constexpr int kBlock = kNoiseBlock;
 
 // Per level-0 pixel: its intensity and its gradient magnitude |grad I| (rows in parallel).
 struct Level0 {
@@ -74,18 +65,13 @@ BlockThresholds BlockThresholdsOf(const Level0& image, const CandidateSelectorOp
   Image<float> select(bw, bh), noise(bw, bh);
   // Rows of blocks in parallel (each block on its own).
   tbb::parallel_for(0, bh, [&](int by) {
-    std::vector<float> g, n;
+    std::vector<float> g;
     for (int bx = 0; bx < bw; ++bx) {
       g.clear();
-      n.clear();
       for (int y = by * kBlock; y < std::min(h, (by + 1) * kBlock); ++y)
-        for (int x = bx * kBlock; x < std::min(w, (bx + 1) * kBlock); ++x) {
-          g.push_back(image.gradient(x, y));
-          if (x > 0 && y > 0 && x < w - 1 && y < h - 1) n.push_back(NoiseResponse(image.value, x, y));
-        }
+        for (int x = bx * kBlock; x < std::min(w, (bx + 1) * kBlock); ++x) g.push_back(image.gradient(x, y));
       select(bx, by) = Median(g) + options.threshold_margin;
-      // sigma = median |N * I| / (6 * 0.6745) (the median of a half-normal is 0.6745 sigma).
-      noise(bx, by) = n.empty() ? 0.f : Median(n) / (6.f * 0.6745f);
+      noise(bx, by) = BlockNoiseSigma(image.value, bx, by);
     }
   });
   BlockThresholds t;
@@ -97,7 +83,8 @@ BlockThresholds BlockThresholdsOf(const Level0& image, const CandidateSelectorOp
   t.floor = Image<float>(bw, bh);
   for (int by = 0; by < bh; ++by)
     for (int bx = 0; bx < bw; ++bx) {
-      t.floor(bx, by) = options.noise_factor * t.noise_sigma(bx, by) / std::sqrt(2.f);
+      t.floor(bx, by) = static_cast<float>(options.noise_factor * options.noise_gradient_gain) * t.noise_sigma(bx, by) /
+                        std::sqrt(2.f);
       t.select(bx, by) = std::max(t.select(bx, by), t.floor(bx, by));
     }
   return t;

@@ -9,7 +9,7 @@
 //
 // Image noise: a pixel whose gradient noise alone could make carries no depth (its epipolar match
 // is a coin toss, its residuals pull poses at random). Each block's noise sigma is estimated from
-// the median response of a kernel that annihilates smooth intensity (see the .cc), and no pixel
+// the median response of a kernel that annihilates smooth intensity (image/noise.h), and no pixel
 // is taken below noise_factor * sigma / sqrt(2), the noise's gradient at that many standard
 // deviations. On clean images (sigma ~ 1) this floor lies below both thresholds and changes
 // nothing; on render noise or a dark, noisy sensor it keeps the selection off flat areas.
@@ -28,6 +28,9 @@ struct CandidateSelectorOptions {
   float threshold_margin = 7.f;  // Added to the block median gradient, grey levels.
   float noise_factor = 4.f;      // Gradient floor in standard deviations of the noise's gradient.
   int border = 4;                // Pixels left free at the image border.
+  // Gradient noise over sigma_estimated / sqrt(2): 1 for unsmoothed frames; the system sets
+  // SmoothedGradientNoiseGain (image/noise.h) when it smooths them.
+  double noise_gradient_gain = 1.0;
 
   void Validate() const;
 };

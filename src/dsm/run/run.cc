@@ -154,6 +154,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"keyframes", s.keyframes},
       {"map_points", system.NumMapPoints()},
       {"initialized_at_frame", s.initialized_at_frame},
+      {"image_noise_sigma", s.image_noise_sigma},
+      {"smoothing_sigma", s.smoothing_sigma},
       {"points_created", s.points_created},
       {"reobservations", s.reobservations},
       {"covisible_keyframes_selected", s.covisible_keyframes_selected},

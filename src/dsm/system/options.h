@@ -17,7 +17,7 @@
 namespace dsm {
 
 enum class MapMode {
-  kSlidingWindow,  // DSM-SW: temporal window only.
+  kSlidingWindow,  // DSM-SW: a temporal window of N_t + N_c keyframes (the same size), no covisible part.
   kFull,           // DSM: temporal + covisible keyframes (window.covisible_keyframes).
 };
 
@@ -35,6 +35,13 @@ struct SystemOptions {
   // A keyframe's pyramid is released when no mapping step used it in the last this many keyframes
   // (the compact image stays; Map::LoadPyramids rebuilds it).
   int keep_pyramid_keyframes = 2;
+  // Gaussian smoothing of every frame before anything else (image/noise.h), sigma in pixels; 0:
+  // none (default). Negative: automatic, decided on the first frame: smoothing_auto_sigma when
+  // its noise level reaches smoothing_noise_threshold grey levels (render noise), none below
+  // (camera images). Not the default yet: see the README (Image noise).
+  double smoothing_sigma = 0.0;
+  double smoothing_noise_threshold = 2.5;
+  double smoothing_auto_sigma = 0.7;
   InitializerOptions initializer;
   TrackerOptions tracker;
   CandidateSelectorOptions candidates;

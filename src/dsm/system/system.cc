@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "dsm/image/noise.h"
 #include "dsm/system/mapping_thread.h"
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/initializer.h"
@@ -49,6 +50,11 @@ std::string TrackingStatusName(TrackingStatus status) {
 System::System(const PinholeCamera& camera, const SystemOptions& options)
     : camera_(camera), options_(options), min_activation_distance_px_(options.activation.initial_min_distance_px) {
   options_.Validate();
+  if (options_.mode == MapMode::kSlidingWindow) {
+    // DSM-SW: the same window size N_w = N_t + N_c, all of it temporal (a sliding window as DSO's).
+    options_.window.temporal_keyframes += options_.window.covisible_keyframes;
+    options_.window.covisible_keyframes = 0;
+  }
   const int div = 1 << (options_.pyramid_levels - 1);
   if (camera.width % div || camera.height % div) {
     throw InputError("the undistorted image size " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
@@ -61,10 +67,20 @@ System::System(const PinholeCamera& camera, const SystemOptions& options)
 
 System::~System() = default;
 
-FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms) {
-  DSM_CHECK(image.width() == camera_.width && image.height() == camera_.height, "frame size differs from the camera");
+FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms) {
+  DSM_CHECK(input.width() == camera_.width && input.height() == camera_.height, "frame size differs from the camera");
   ++stats_.frames;
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
+  if (stats_.smoothing_sigma < 0.0) {
+    stats_.image_noise_sigma = EstimateNoiseSigma(input);
+    stats_.smoothing_sigma = options_.smoothing_sigma >= 0.0                                    ? options_.smoothing_sigma
+                             : stats_.image_noise_sigma >= options_.smoothing_noise_threshold ? options_.smoothing_auto_sigma
+                                                                                              : 0.0;
+    options_.candidates.noise_gradient_gain = SmoothedGradientNoiseGain(static_cast<float>(stats_.smoothing_sigma));
+  }
+  const Image<float> smoothed =
+      stats_.smoothing_sigma > 0.0 ? GaussianSmooth(input, static_cast<float>(stats_.smoothing_sigma)) : Image<float>();
+  const Image<float>& image = stats_.smoothing_sigma > 0.0 ? smoothed : input;
   if (!reference_) return Initialize(index, t_ns, image, exposure);
 
   UpdateReference(want_keyframe_ && options_.wait_for_mapping);

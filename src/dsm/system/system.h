@@ -54,6 +54,8 @@ struct FrameReport {
 struct SystemStats {
   int frames = 0, frames_tracked = 0, keyframes = 0;
   int initialized_at_frame = -1;
+  double image_noise_sigma = -1.0;  // Noise level of the first frame (image/noise.h), grey levels.
+  double smoothing_sigma = -1.0;    // Gaussian smoothing applied to every frame, pixels (0: none).
   std::vector<double> tracking_ms;  // Per tracked frame: its pyramid and alignment.
   std::vector<double> tracing_ms;   // Per tracked frame: candidate tracing (mapping side).
   std::vector<double> mapping_ms;   // Per keyframe: everything the mapping side does to it.
@@ -88,7 +90,8 @@ class System {
   System(const PinholeCamera& camera, const SystemOptions& options);
   ~System();
 
-  // `image`: undistorted (and photometrically corrected) frame of the camera's size.
+  // `image`: undistorted (and photometrically corrected) frame of the camera's size; smoothed first
+  // as options.smoothing_sigma says (decided on the first frame).
   // `exposure_ms`: 0 when unknown. Returns once the frame is tracked (and, sequential, mapped).
   FrameReport Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms);
   // Waits until the mapping side has done all the work handed to it (nothing to wait for when

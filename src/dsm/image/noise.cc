@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/image/noise.h"
+
+#include <algorithm>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "dsm/util/median.h"
+
+namespace dsm {
+
+float BlockNoiseSigma(const Image<float>& image, int bx, int by) {
+  const int w = image.width(), h = image.height();
+  std::vector<float> n;
+  n.reserve(kNoiseBlock * kNoiseBlock);
+  for (int y = std::max(1, by * kNoiseBlock); y < std::min(h - 1, (by + 1) * kNoiseBlock); ++y)
+    for (int x = std::max(1, bx * kNoiseBlock); x < std::min(w - 1, (bx + 1) * kNoiseBlock); ++x)
+      n.push_back(NoiseResponse(image, x, y));
+  return n.empty() ? 0.f : Median(n) / (6.f * 0.6745f);
+}
+
+float EstimateNoiseSigma(const Image<float>& image) {
+  const int bw = (image.width() + kNoiseBlock - 1) / kNoiseBlock, bh = (image.height() + kNoiseBlock - 1) / kNoiseBlock;
+  std::vector<float> sigmas(static_cast<size_t>(bw) * bh);
+  tbb::parallel_for(0, bh, [&](int by) {
+    for (int bx = 0; bx < bw; ++bx) sigmas[static_cast<size_t>(by) * bw + bx] = BlockNoiseSigma(image, bx, by);
+  });
+  return sigmas.empty() ? 0.f : Median(sigmas);
+}
+
+std::vector<float> GaussianKernel(float sigma) {
+  const int r = std::max(1, static_cast<int>(std::ceil(3.f * sigma)));
+  std::vector<float> k(2 * r + 1);
+  float sum = 0.f;
+  for (int i = -r; i <= r; ++i) sum += k[i + r] = std::exp(-0.5f * i * i / (sigma * sigma));
+  for (float& v : k) v /= sum;
+  return k;
+}
+
+Image<float> GaussianSmooth(const Image<float>& image, float sigma) {
+  if (!(sigma > 0.f)) return image;
+  const std::vector<float> k = GaussianKernel(sigma);
+  const int r = static_cast<int>(k.size() / 2);
+  const int w = image.width(), h = image.height();
+  // Rows, then columns; a pixel beyond the border takes the border pixel's value.
+  Image<float> rows(w, h), out(w, h);
+  tbb::parallel_for(0, h, [&](int y) {
+    const float* in = image.Row(y);
+    float* o = rows.Row(y);
+    for (int x = 0; x < w; ++x) {
+      float acc = 0.f;
+      for (int i = -r; i <= r; ++i) acc += k[i + r] * in[std::clamp(x + i, 0, w - 1)];
+      o[x] = acc;
+    }
+  });
+  tbb::parallel_for(0, h, [&](int y) {
+    float* o = out.Row(y);
+    for (int x = 0; x < w; ++x) o[x] = 0.f;
+    for (int i = -r; i <= r; ++i) {
+      const float* in = rows.Row(std::clamp(y + i, 0, h - 1));
+      const float ki = k[i + r];
+      for (int x = 0; x < w; ++x) o[x] += ki * in[x];
+    }
+  });
+  return out;
+}
+
+
+namespace {
+
+// The full 2-D convolution of a (ha x wa, row-major) with b (hb x wb).
+std::vector<double> Convolve2d(const std::vector<double>& a, int ha, int wa, const std::vector<double>& b, int hb,
+                               int wb) {
+  const int h = ha + hb - 1, w = wa + wb - 1;
+  std::vector<double> out(static_cast<size_t>(h) * w, 0.0);
+  for (int i = 0; i < ha; ++i)
+    for (int j = 0; j < wa; ++j)
+      for (int p = 0; p < hb; ++p)
+        for (int q = 0; q < wb; ++q) out[(i + p) * w + (j + q)] += a[i * wa + j] * b[p * wb + q];
+  return out;
+}
+
+double Norm(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x * x;
+  return std::sqrt(s);
+}
+
+}  // namespace
+
+double SmoothedGradientNoiseGain(float sigma) {
+  if (!(sigma > 0.f)) return 1.0;
+  const std::vector<float> k = GaussianKernel(sigma);
+  const int n = static_cast<int>(k.size());
+  std::vector<double> g(static_cast<size_t>(n) * n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) g[i * n + j] = double(k[i]) * k[j];
+  const std::vector<double> d = {0.5, 0.0, -0.5};
+  const std::vector<double> N = {1, -2, 1, -2, 4, -2, 1, -2, 1};
+  const double gradient = Norm(Convolve2d(g, n, n, d, 1, 3));
+  const double estimate = Norm(Convolve2d(g, n, n, N, 3, 3)) / 6.0;
+  return gradient / (estimate / std::sqrt(2.0));
+}
+
+}  // namespace dsm
