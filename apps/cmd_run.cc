@@ -18,7 +18,9 @@ Command AddRun(CLI::App& app) {
   auto a = std::make_shared<Args>();
   app.add_option("DATASET", a->dataset, "Dataset folder")->required();
   app.add_option("--out", a->out, "Output folder (default ./dsm_out)");
-  app.add_option("--mode", a->mode, "dsm (persistent map: temporal + covisible window, default) | sw (sliding window of N_t + N_c temporal keyframes)");
+  app.add_option("--mode", a->mode,
+                 "dsm (persistent map: temporal + covisible window, default) | sw (sliding window of N_t + N_c "
+                 "temporal keyframes)");
   app.add_option("--config", a->config, "YAML file with options (see README)");
   app.add_option("--start", a->start, "First frame index");
   app.add_option("--end", a->end, "One past the last frame index");
@@ -36,7 +38,8 @@ Command AddRun(CLI::App& app) {
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
   // Ablation switches (paper VII-A); they override the config file.
   app.add_option("--nt", a->nt, "Temporal keyframes N_t (window.temporal_keyframes)");
-  app.add_option("--nc", a->nc, "Covisible keyframes N_c (window.covisible_keyframes; in --mode sw they add to the temporal window)");
+  app.add_option("--nc", a->nc,
+                 "Covisible keyframes N_c (window.covisible_keyframes; in --mode sw they add to the temporal window)");
   app.add_option("--pba-levels", a->pba_levels, "Pyramid levels of the bundle adjustment (pba.levels)");
   app.add_option("--robust", a->robust, "t | huber | huber-mad (robust.function)");
   AddGtOptions(app, &a->gt);

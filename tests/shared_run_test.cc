@@ -4,8 +4,9 @@
 //   (Sim(3)) <= 5 mm for DSM and <= 12 mm for DSM-SW.
 //   Path-traced room walk (blender_room_s3): every frame after the start tracked, DSM <= 8 mm and
 //   below DSM-SW, DSM-SW <= 10 mm (its window: N_t + N_c temporal keyframes). Before occlusions
-//   were handled DSM's scale collapsed there as a pillar passed close to the camera (1066 mm). A final global bundle adjustment brings the walk
-//   to <= 3 mm (measured 3.69 -> 1.29 mm): the map holds a consistent lap.
+//   were handled DSM's scale collapsed there as a pillar passed close to the camera (1066 mm). A
+//   final global bundle adjustment brings the walk to <= 3 mm (measured 3.69 -> 1.29 mm): the map
+//   holds a consistent lap.
 #include <map>
 
 #include <gtest/gtest.h>

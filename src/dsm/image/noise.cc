@@ -2,6 +2,7 @@
 #include "dsm/image/noise.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -9,6 +10,45 @@
 #include "dsm/util/median.h"
 
 namespace dsm {
+namespace {
+
+// |N * I| at (x, y), 1 <= x < width - 1, 1 <= y < height - 1.
+float NoiseResponse(const Image<float>& I, int x, int y) {
+  const float* a = I.Row(y - 1) + x;
+  const float* b = I.Row(y) + x;
+  const float* c = I.Row(y + 1) + x;
+  return std::abs(a[-1] - 2.f * a[0] + a[1] - 2.f * b[-1] + 4.f * b[0] - 2.f * b[1] + c[-1] - 2.f * c[0] + c[1]);
+}
+
+// The normalised 1-D Gaussian of `sigma` pixels, truncated at 3 sigma (at least 3 taps).
+std::vector<float> GaussianKernel(float sigma) {
+  const int r = std::max(1, static_cast<int>(std::ceil(3.f * sigma)));
+  std::vector<float> k(2 * r + 1);
+  float sum = 0.f;
+  for (int i = -r; i <= r; ++i) sum += k[i + r] = std::exp(-0.5f * i * i / (sigma * sigma));
+  for (float& v : k) v /= sum;
+  return k;
+}
+
+// The full 2-D convolution of a (ha x wa, row-major) with b (hb x wb).
+std::vector<double> Convolve2d(const std::vector<double>& a, int ha, int wa, const std::vector<double>& b, int hb,
+                               int wb) {
+  const int h = ha + hb - 1, w = wa + wb - 1;
+  std::vector<double> out(static_cast<size_t>(h) * w, 0.0);
+  for (int i = 0; i < ha; ++i)
+    for (int j = 0; j < wa; ++j)
+      for (int p = 0; p < hb; ++p)
+        for (int q = 0; q < wb; ++q) out[(i + p) * w + (j + q)] += a[i * wa + j] * b[p * wb + q];
+  return out;
+}
+
+double Norm(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x * x;
+  return std::sqrt(s);
+}
+
+}  // namespace
 
 float BlockNoiseSigma(const Image<float>& image, int bx, int by) {
   const int w = image.width(), h = image.height();
@@ -27,15 +67,6 @@ float EstimateNoiseSigma(const Image<float>& image) {
     for (int bx = 0; bx < bw; ++bx) sigmas[static_cast<size_t>(by) * bw + bx] = BlockNoiseSigma(image, bx, by);
   });
   return sigmas.empty() ? 0.f : Median(sigmas);
-}
-
-std::vector<float> GaussianKernel(float sigma) {
-  const int r = std::max(1, static_cast<int>(std::ceil(3.f * sigma)));
-  std::vector<float> k(2 * r + 1);
-  float sum = 0.f;
-  for (int i = -r; i <= r; ++i) sum += k[i + r] = std::exp(-0.5f * i * i / (sigma * sigma));
-  for (float& v : k) v /= sum;
-  return k;
 }
 
 Image<float> GaussianSmooth(const Image<float>& image, float sigma) {
@@ -65,29 +96,6 @@ Image<float> GaussianSmooth(const Image<float>& image, float sigma) {
   });
   return out;
 }
-
-
-namespace {
-
-// The full 2-D convolution of a (ha x wa, row-major) with b (hb x wb).
-std::vector<double> Convolve2d(const std::vector<double>& a, int ha, int wa, const std::vector<double>& b, int hb,
-                               int wb) {
-  const int h = ha + hb - 1, w = wa + wb - 1;
-  std::vector<double> out(static_cast<size_t>(h) * w, 0.0);
-  for (int i = 0; i < ha; ++i)
-    for (int j = 0; j < wa; ++j)
-      for (int p = 0; p < hb; ++p)
-        for (int q = 0; q < wb; ++q) out[(i + p) * w + (j + q)] += a[i * wa + j] * b[p * wb + q];
-  return out;
-}
-
-double Norm(const std::vector<double>& v) {
-  double s = 0.0;
-  for (double x : v) s += x * x;
-  return std::sqrt(s);
-}
-
-}  // namespace
 
 double SmoothedGradientNoiseGain(float sigma) {
   if (!(sigma > 0.f)) return 1.0;

@@ -19,22 +19,11 @@
 // noise down, and lowers the noise itself to ~0.4 s.
 #pragma once
 
-#include <cmath>
-#include <vector>
-
 #include "dsm/image/image.h"
 
 namespace dsm {
 
 constexpr int kNoiseBlock = 32;
-
-// |N * I| at (x, y), 1 <= x < width - 1, 1 <= y < height - 1.
-inline float NoiseResponse(const Image<float>& I, int x, int y) {
-  const float* a = I.Row(y - 1) + x;
-  const float* b = I.Row(y) + x;
-  const float* c = I.Row(y + 1) + x;
-  return std::abs(a[-1] - 2.f * a[0] + a[1] - 2.f * b[-1] + 4.f * b[0] - 2.f * b[1] + c[-1] - 2.f * c[0] + c[1]);
-}
 
 // The noise sigma of the block at (bx, by) (kNoiseBlock pixels; the last ones may be smaller), 0
 // for a block without interior pixels.
@@ -43,11 +32,8 @@ float BlockNoiseSigma(const Image<float>& image, int bx, int by);
 // The image's noise sigma, grey levels: the median of its blocks' (see above).
 float EstimateNoiseSigma(const Image<float>& image);
 
-// The normalised 1-D Gaussian of `sigma` pixels, truncated at 3 sigma (at least 3 taps).
-std::vector<float> GaussianKernel(float sigma);
-
-// Convolution with GaussianKernel(sigma) along rows and columns (the border pixels repeated);
-// sigma <= 0 returns a copy.
+// Convolution with the normalised 1-D Gaussian of `sigma` pixels (truncated at 3 sigma, at least
+// 3 taps) along rows and columns, the border pixels repeated; sigma <= 0 returns a copy.
 Image<float> GaussianSmooth(const Image<float>& image, float sigma);
 
 // Smoothing correlates the noise, and the noise level estimated afterwards no longer predicts the

@@ -18,8 +18,8 @@ struct WindowOptions {
   int temporal_keyframes = 4;  // N_t, including the newest.
   double min_visible_ratio = 0.05;
   double max_affine_change = 0.7;
-  // Covisible part (covisibility.h). DSM-SW (MapMode::kSlidingWindow) has none and a temporal part of
-  // N_t + N_c keyframes instead.
+  // Covisible part (covisibility.h). DSM-SW (MapMode::kSlidingWindow) has none and a temporal
+  // part of N_t + N_c keyframes instead.
   int covisible_keyframes = 5;         // N_c (3 in the paper: see the README's ablation).
   bool optimize_covisible_poses = false;  // Paper: true. Held, their points are still optimised.
   float depleted_distance_px = 2.f;    // A pixel this far from every projected point is depleted.

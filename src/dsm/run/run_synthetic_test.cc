@@ -109,7 +109,9 @@ RunSummary ExpectKeepsTheScale(const fs::path& dir, const std::string& name, dou
   EXPECT_GE(s.stats["frames_tracked"].get<int>(), 0.99 * s.stats["frames"].get<int>());
   EXPECT_TRUE(s.eval.has_value());
   const double path = dataset.ground_truth.PathLength();
-  if (s.eval) EXPECT_LE(KeyframeAte(s), max_share_of_path * path) << "path " << path;
+  if (s.eval) {
+    EXPECT_LE(KeyframeAte(s), max_share_of_path * path) << "path " << path;
+  }
   return s;
 }
 

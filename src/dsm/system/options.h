@@ -17,7 +17,7 @@
 namespace dsm {
 
 enum class MapMode {
-  kSlidingWindow,  // DSM-SW: a temporal window of N_t + N_c keyframes (the same size), no covisible part.
+  kSlidingWindow,  // DSM-SW: a temporal window of N_t + N_c keyframes (DSM's size), no covisible part.
   kFull,           // DSM: temporal + covisible keyframes (window.covisible_keyframes).
 };
 

@@ -67,17 +67,22 @@ System::System(const PinholeCamera& camera, const SystemOptions& options)
 
 System::~System() = default;
 
+void System::ChooseSmoothing(const Image<float>& first) {
+  stats_.image_noise_sigma = EstimateNoiseSigma(first);
+  if (options_.smoothing_sigma >= 0.0) {
+    stats_.smoothing_sigma = options_.smoothing_sigma;
+  } else {
+    const bool noisy = stats_.image_noise_sigma >= options_.smoothing_noise_threshold;
+    stats_.smoothing_sigma = noisy ? options_.smoothing_auto_sigma : 0.0;
+  }
+  options_.candidates.noise_gradient_gain = SmoothedGradientNoiseGain(static_cast<float>(stats_.smoothing_sigma));
+}
+
 FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms) {
   DSM_CHECK(input.width() == camera_.width && input.height() == camera_.height, "frame size differs from the camera");
   ++stats_.frames;
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
-  if (stats_.smoothing_sigma < 0.0) {
-    stats_.image_noise_sigma = EstimateNoiseSigma(input);
-    stats_.smoothing_sigma = options_.smoothing_sigma >= 0.0                                    ? options_.smoothing_sigma
-                             : stats_.image_noise_sigma >= options_.smoothing_noise_threshold ? options_.smoothing_auto_sigma
-                                                                                              : 0.0;
-    options_.candidates.noise_gradient_gain = SmoothedGradientNoiseGain(static_cast<float>(stats_.smoothing_sigma));
-  }
+  if (stats_.smoothing_sigma < 0.0) ChooseSmoothing(input);
   const Image<float> smoothed =
       stats_.smoothing_sigma > 0.0 ? GaussianSmooth(input, static_cast<float>(stats_.smoothing_sigma)) : Image<float>();
   const Image<float>& image = stats_.smoothing_sigma > 0.0 ? smoothed : input;

@@ -151,6 +151,9 @@ class System {
     std::vector<double> exposure;
   };
 
+  // On the first frame: its noise level, the smoothing of every frame (options.smoothing_sigma) and
+  // the candidates' noise gain that goes with it.
+  void ChooseSmoothing(const Image<float>& first);
   FrameReport Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure);
   void StartMap(const struct InitResult& init);
   bool TrackFrame(const ImagePyramid& pyramid, double exposure, struct TrackResult* result);
