@@ -221,8 +221,9 @@ void System::Finish() {
   if (mapping_thread_) {
     mapping_thread_->WaitUntilIdle();
     stats_.keyframe_queue_max = mapping_thread_->KeyframeQueueMax();
-    MergeInitTracked();
   }
+  TrackInitFrames();  // When the run ended before the map matured.
+  MergeInitTracked();
 }
 
 FrameReport System::Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure) {
@@ -296,21 +297,61 @@ void System::StartMap(const InitResult& init) {
   const SE3d kf1_from_kf0 = init.current_from_reference;
   std::vector<PendingFrame> between(pending_.begin() + 1, pending_.begin() + std::max(1, k));
   for (const PendingFrame& p : between) frames_.push_back({p.t_ns, -1, SE3d()});
-  RunOnMappingSide([this, between, kf1_from_kf0, k, ref = reference_] {
-    FrameTracker tracker(options_.tracker);
-    tracker.SetReference(ref->pyramid.get(), camera_, ref->points);
-    for (size_t i = 0; i < between.size(); ++i) {
-      const SE3d guess = Scale(kf1_from_kf0, static_cast<double>(i + 1) / k) * kf1_from_kf0.Inverse();
-      const TrackResult r = tracker.Track(*between[i].pyramid, guess, 0.0, 0.0);
-      init_tracked_.push_back({between[i].t_ns, r.ok, r.frame_from_keyframe});
-    }
-  });
+  // Tracked once the first bundle adjustments have settled the young map (FinishKeyframe).
+  init_between_ = {between, kf1_from_kf0, k};
   frames_.push_back({last.t_ns, 1, SE3d()});
   std::stable_sort(frames_.begin(), frames_.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   velocity_ = k > 0 ? Scale(kf1_from_kf0, 1.0 / k) : SE3d();
   last_exposure_ = last.exposure;
   pending_.clear();
-  if (!mapping_thread_) MergeInitTracked();
+}
+
+void System::TrackInitFrames() {
+  // Hand-held starts turn back and forth between the two keyframes (on `pan`, 60 deg away from
+  // keyframe 1 and back), so an interpolation of their relative motion is no guess for the frames
+  // between, and one keyframe may barely overlap the frames near the other (tracking a narrow
+  // overlap confuses a tilt with a sideways shift). Each frame is therefore tracked twice, in a
+  // chain forwards from keyframe 0 and backwards from keyframe 1, each from its neighbour's pose
+  // and the step between them (constant velocity), and keeps the result of the keyframe it is
+  // turned less from. A chain stops at its first failure. The references are the map's points as
+  // the bundle adjustments of the next keyframes left them: the two-view start is only a guess.
+  const std::vector<PendingFrame> between = std::move(init_between_.frames);
+  init_between_.frames.clear();
+  if (between.empty()) return;
+  const int n = static_cast<int>(between.size());
+  const auto angle = [](const std::optional<TrackResult>& r) { return r->frame_from_keyframe.So3().Log().norm(); };
+  // `stop(i, r)`: the chain ends before frame i.
+  const auto chain = [&](int keyframe, SE3d step, bool forward, const auto& stop) {
+    map_.LoadPyramids({keyframe});
+    FrameTracker tracker(options_.tracker);
+    std::vector<int> live;
+    for (int pid = 0; pid < map_.NumPoints(); ++pid)
+      if (!map_.point(pid).removed) live.push_back(pid);
+    tracker.SetReference(map_.keyframe(keyframe).pyramid.get(), camera_, ReferencePointsIn(keyframe, live));
+    std::vector<std::optional<TrackResult>> out(n);
+    SE3d previous;  // The neighbour's frame_from_keyframe.
+    for (int j = 0; j < n; ++j) {
+      const int i = forward ? j : n - 1 - j;
+      std::optional<TrackResult> r = tracker.Track(*between[i].pyramid, step * previous, 0.0, 0.0);
+      if (!r->ok || stop(i, r)) break;
+      step = r->frame_from_keyframe * previous.Inverse();
+      previous = r->frame_from_keyframe;
+      out[i] = std::move(r);
+    }
+    return out;
+  };
+  // Frame j + 1 from frame j, as the two-view start saw it: the chains' first guess.
+  const SE3d per_frame = Scale(init_between_.kf1_from_kf0, 1.0 / init_between_.steps);
+  const auto from_kf1 = chain(1, per_frame.Inverse(), false, [](int, const auto&) { return false; });
+  // Forwards only while keyframe 0 is the nearer one (the tracking thread may be waiting).
+  const auto from_kf0 =
+      chain(0, per_frame, true, [&](int i, const auto& r) { return from_kf1[i] && angle(from_kf1[i]) <= angle(r); });
+  const double baseline = InitBaseline();
+  for (int i = 0; i < n; ++i) {
+    const bool use_kf0 = from_kf0[i] && (!from_kf1[i] || angle(from_kf0[i]) < angle(from_kf1[i]));
+    const std::optional<TrackResult>& r = use_kf0 ? from_kf0[i] : from_kf1[i];
+    if (r) init_tracked_.push_back({between[i].t_ns, use_kf0 ? 0 : 1, r->frame_from_keyframe, baseline});
+  }
 }
 
 void System::RunOnMappingSide(std::function<void()> job) {
@@ -323,11 +364,10 @@ void System::RunOnMappingSide(std::function<void()> job) {
 
 void System::MergeInitTracked() {
   for (const InitTracked& t : init_tracked_) {
-    if (!t.ok) continue;
     const auto it = std::lower_bound(frames_.begin(), frames_.end(), t.t_ns,
                                      [](const FrameRecordInternal& f, int64_t v) { return f.t_ns < v; });
     DSM_CHECK(it != frames_.end() && it->t_ns == t.t_ns, "an initialisation frame has no record");
-    *it = {t.t_ns, 1, t.frame_from_kf1};
+    *it = {t.t_ns, t.reference, t.frame_from_reference, t.baseline};
     ++stats_.frames_tracked;
   }
   init_tracked_.clear();
@@ -401,11 +441,21 @@ Trajectory System::KeyframeTrajectory() const {
   return t;
 }
 
+double System::InitBaseline() const {
+  return (map_.keyframe(1).cam_from_world.Inverse().Translation() -
+          map_.keyframe(0).cam_from_world.Inverse().Translation())
+      .norm();
+}
+
 Trajectory System::FrameTrajectory() const {
   Trajectory t;
+  const double baseline = map_.NumKeyframes() > 1 ? InitBaseline() : 0.0;
   for (const FrameRecordInternal& f : frames_) {
     if (f.reference < 0) continue;
-    t.Add(f.t_ns, (f.frame_from_reference * map_.keyframe(f.reference).cam_from_world).Inverse());
+    SE3d frame_from_reference = f.frame_from_reference;
+    if (f.init_baseline > 0.0)
+      frame_from_reference.SetTranslation(frame_from_reference.Translation() * (baseline / f.init_baseline));
+    t.Add(f.t_ns, (frame_from_reference * map_.keyframe(f.reference).cam_from_world).Inverse());
   }
   return t;
 }

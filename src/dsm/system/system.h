@@ -118,6 +118,11 @@ class System {
     int64_t t_ns = 0;
     int reference = -1;          // Keyframe id the pose is relative to.
     SE3d frame_from_reference;
+    // > 0 for the frames between the two initial keyframes: the distance between the two when the
+    // frame was tracked. The first bundle adjustments still rescale the young map about keyframe 0
+    // (held fixed), by ~5% on a hand-held start, so the frame's offset from its keyframe (0 or 1)
+    // is scaled by that distance's change.
+    double init_baseline = 0.0;
   };
   struct PendingFrame {
     int index;
@@ -166,6 +171,13 @@ class System {
   // The initialisation frames the mapping side tracked, into the frame records (tracking side;
   // threaded: once the mapping side is idle).
   void MergeInitTracked();
+  double InitBaseline() const;  // Distance between keyframes 0 and 1 (their camera centres).
+  // On the mapping side, once keyframe kInitTrackingKeyframe is mapped (or at Finish): tracks
+  // init_between_ into init_tracked_.
+  void TrackInitFrames();
+  static constexpr int kInitTrackingKeyframe = 4;
+  // The points among `ids` the bundle adjustment saw in keyframe `kf`, projected into it.
+  std::vector<ReferencePoint> ReferencePointsIn(int kf, const std::vector<int>& ids);
   // Mapping side.
   void RunJob(const MappingJob& job);  // Traces candidates; maps the frame when it is a keyframe.
   void RunFinishJob(int kf);           // FinishKeyframe, timed.
@@ -213,13 +225,20 @@ class System {
   int last_frame_keyframe_ = -1;  // The keyframe made from the last tracked frame, if any.
   bool want_keyframe_ = false;    // The last frame wanted a keyframe while one was pending.
   std::vector<FrameRecordInternal> frames_;
-  // Frames between the two initial keyframes as the mapping side tracked them against keyframe 1.
+  // Frames between the two initial keyframes as the mapping side tracked them (TrackInitFrames).
   struct InitTracked {
     int64_t t_ns = 0;
-    bool ok = false;
-    SE3d frame_from_kf1;
+    int reference = 1;  // Keyframe 0 or 1.
+    SE3d frame_from_reference;
+    double baseline = 0.0;  // Distance between keyframes 0 and 1 when it was tracked.
   };
   std::vector<InitTracked> init_tracked_;  // Written by the mapping side, merged by MergeInitTracked.
+  struct InitBetween {
+    std::vector<PendingFrame> frames;  // Between keyframes 0 and 1, in order.
+    SE3d kf1_from_kf0;                 // From the two-view start.
+    int steps = 1;                     // Frame steps from keyframe 0 to keyframe 1.
+  };
+  InitBetween init_between_;  // Set by StartMap, tracked on the mapping side (TrackInitFrames).
   SE3d last_frame_from_reference_, velocity_;  // velocity: last frame motion (frame_from_previous)
   double last_alpha_ = 0.0, last_beta_ = 0.0;  // Brightness of the last frame relative to the reference.
   double last_exposure_ = 1.0;

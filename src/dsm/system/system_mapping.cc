@@ -106,6 +106,7 @@ void System::MapNewKeyframe(int kf) {
 
 void System::FinishKeyframe(int kf) {
   SelectCandidates(kf);
+  if (kf == kInitTrackingKeyframe) TrackInitFrames();
   // Keyframes keep their pyramids while a recent mapping step used them.
   map_.ReleaseUnusedPyramids(options_.keep_pyramid_keyframes);
   stats_.pyramids_loaded_max = std::max(stats_.pyramids_loaded_max, map_.NumLoadedPyramids());
@@ -265,19 +266,25 @@ void System::SelectCandidates(int kf) {
   }
 }
 
+std::vector<ReferencePoint> System::ReferencePointsIn(int kf, const std::vector<int>& ids) {
+  std::vector<ReferencePoint> points;
+  for (int pid : ids) {
+    Point& p = map_.point(pid);
+    // Only points the bundle adjustment saw in the keyframe (TrackerOptions).
+    const Observation* o = p.FindObservation(kf);
+    if (options_.tracker.verified_reference && p.host != kf && (o == nullptr || o->outlier)) continue;
+    Eigen::Vector2f px;
+    float rho;
+    if (ProjectPoint(map_, camera_, p, kf, 2.f, &px, &rho)) points.push_back({px, rho});
+  }
+  return points;
+}
+
 void System::PublishTrackingReference() {
   auto ref = std::make_shared<TrackingReference>();
   const int newest = window_.back();
   const Keyframe& keyframe = map_.keyframe(newest);
-  for (int pid : ActivePointIds()) {
-    Point& p = map_.point(pid);
-    // Only points the bundle adjustment saw in the newest keyframe (TrackerOptions).
-    const Observation* o = p.FindObservation(newest);
-    if (options_.tracker.verified_reference && p.host != newest && (o == nullptr || o->outlier)) continue;
-    Eigen::Vector2f px;
-    float rho;
-    if (ProjectPoint(map_, camera_, p, newest, 2.f, &px, &rho)) ref->points.push_back({px, rho});
-  }
+  ref->points = ReferencePointsIn(newest, ActivePointIds());
   ref->keyframe = newest;
   ref->pyramid = keyframe.pyramid;
   for (int k = 0; k <= newest; ++k) {
