@@ -30,6 +30,10 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["initializer.max_corners"] = Set(&o->initializer.max_corners);
   s["initializer.min_parallax_deg"] = Set(&o->initializer.min_parallax_deg);
   s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);
+  s["initializer.planar_start"] = Set(&o->initializer.planar_start);
+  s["initializer.planar_min_homography_ratio"] = Set(&o->initializer.planar_min_homography_ratio);
+  s["initializer.planar_frame_gap"] = Set(&o->initializer.planar_frame_gap);
+  s["initializer.planar_normal_tolerance_deg"] = Set(&o->initializer.planar_normal_tolerance_deg);
   s["initializer.min_inliers"] = Set(&o->initializer.min_inliers);
   s["initializer.ransac_threshold_px"] = Set(&o->initializer.ransac_threshold_px);
   s["initializer.track_from_reference"] = Set(&o->initializer.track_from_reference);

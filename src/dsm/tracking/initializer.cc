@@ -21,6 +21,11 @@ void InitializerOptions::Validate() const {
   if (min_inliers < 8) throw InputError("initializer.min_inliers must be at least 8");
   if (!(ransac_threshold_px > 0)) throw InputError("initializer.ransac_threshold_px must be positive");
   if (!(refine_loss_px > 0)) throw InputError("initializer.refine_loss_px must be positive");
+  if (!(planar_min_homography_ratio > 0 && planar_min_homography_ratio <= 1))
+    throw InputError("initializer.planar_min_homography_ratio must be in (0, 1]");
+  if (planar_frame_gap < 1) throw InputError("initializer.planar_frame_gap must be at least 1");
+  if (!(planar_normal_tolerance_deg > 0 && planar_normal_tolerance_deg < 30))
+    throw InputError("initializer.planar_normal_tolerance_deg must be in (0, 30)");
 }
 
 namespace {
@@ -50,6 +55,8 @@ void Initializer::SetReference(const Image<float>& image, const PinholeCamera& c
   current_corners_ = reference_corners_;
   alive_.assign(reference_corners_.size(), true);
   has_reference_ = true;
+  frames_ = 0;
+  plane_normals_.clear();
 }
 
 int Initializer::NumTracks() const { return static_cast<int>(std::count(alive_.begin(), alive_.end(), true)); }
@@ -103,6 +110,8 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
   const Image<uint8_t> gray = ToGray8(image);
   TrackCorners(gray);
   previous_ = gray;
+  ++frames_;
+  plane_normals_.emplace_back();
 
   std::vector<cv::Point2f> ref, cur;
   std::vector<int> track_ids;
@@ -129,6 +138,13 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
   const int e_inliers = cv::countNonZero(e_mask);
   const int h_inliers = H.empty() ? 0 : cv::countNonZero(h_mask);
   result.homography_ratio = e_inliers > 0 ? static_cast<double>(h_inliers) / e_inliers : 1.0;
+  const bool explained = result.homography_ratio > options_.max_homography_ratio;
+  const bool planar = options_.planar_start && !H.empty() &&
+                      PlanarStart(H, ref, cur, h_mask, result.homography_ratio >= options_.planar_min_homography_ratio, &result);
+  if (planar || explained) {
+    if (!planar) result.reason = "a homography explains the motion (ratio " + std::to_string(result.homography_ratio) + ")";
+    return result;
+  }
   if (in_front < options_.min_inliers) {
     result.reason = "too few essential-matrix inliers in front of the cameras (" + std::to_string(in_front) + ")";
     return result;
@@ -188,10 +204,6 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
     result.reason = "too little parallax (" + std::to_string(result.parallax_deg) + " deg)";
     return result;
   }
-  if (result.homography_ratio > options_.max_homography_ratio) {
-    result.reason = "a homography explains the motion (ratio " + std::to_string(result.homography_ratio) + ")";
-    return result;
-  }
   // Scale: median depth 1.
   const double scale = 1.0 / Median(depth);
   for (InitPoint& p : points) p.idepth = static_cast<float>(p.idepth / scale);
@@ -199,6 +211,81 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
   result.points = std::move(points);
   result.ok = true;
   return result;
+}
+
+bool Initializer::PlanarStart(const cv::Mat& H, const std::vector<cv::Point2f>& ref, const std::vector<cv::Point2f>& cur,
+                              const cv::Mat& h_mask, bool accept, InitResult* result) {
+  const cv::Mat K = (cv::Mat_<double>(3, 3) << camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
+  std::vector<cv::Mat> rotations, translations, normals;
+  cv::decomposeHomographyMat(H, K, rotations, translations, normals);
+  std::vector<Eigen::Vector3d> rays;  // Of the inlier tracks in the reference, z = 1.
+  std::vector<Eigen::Vector2f> pixels;
+  for (size_t k = 0; k < ref.size(); ++k) {
+    if (!h_mask.at<uchar>(static_cast<int>(k))) continue;
+    rays.push_back(camera_.Unproject(ref[k].x, ref[k].y));
+    pixels.emplace_back(ref[k].x, ref[k].y);
+  }
+  if (static_cast<int>(rays.size()) < options_.min_inliers) return false;
+  struct Solution {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t, n;  // t = translation / d.
+  };
+  std::vector<Solution> valid;
+  for (size_t i = 0; i < rotations.size(); ++i) {
+    Solution s;
+    for (int r = 0; r < 3; ++r) {
+      s.t(r) = translations[i].at<double>(r);
+      s.n(r) = normals[i].at<double>(r);
+      for (int c = 0; c < 3; ++c) s.R(r, c) = rotations[i].at<double>(r, c);
+    }
+    // In front of both cameras: depth 1 / (n^T x) > 0 in the reference and in the current frame.
+    int in_front = 0;
+    for (const Eigen::Vector3d& x : rays) {
+      const double nx = s.n.dot(x);
+      in_front += nx > 0 && (s.R * (x / nx) + s.t).z() > 0;
+    }
+    if (in_front >= 0.9 * rays.size()) valid.push_back(s);
+  }
+  for (const Solution& s : valid) plane_normals_.back().push_back(s.n);
+  if (!accept || valid.size() != 2) return false;
+  const double parallax = std::max(valid[0].t.norm(), valid[1].t.norm());
+  result->parallax_deg = std::atan(parallax) * 180.0 / M_PI;
+  if (result->parallax_deg < options_.min_parallax_deg) return false;
+  // The solution whose normal some frame at least planar_frame_gap back agrees with, and not its twin.
+  const double tolerance = options_.planar_normal_tolerance_deg * M_PI / 180.0;
+  const auto nearest = [](const Eigen::Vector3d& n, const std::vector<Eigen::Vector3d>& others) {
+    double best = M_PI;
+    for (const Eigen::Vector3d& o : others) best = std::min(best, std::acos(std::clamp(n.dot(o), -1.0, 1.0)));
+    return best;
+  };
+  int chosen = -1;
+  for (int g = 0; g + options_.planar_frame_gap < frames_ && chosen < 0; ++g) {
+    const std::vector<Eigen::Vector3d>& earlier = plane_normals_[g];
+    if (earlier.size() != 2) continue;
+    for (int i = 0; i < 2; ++i)
+      if (nearest(valid[i].n, earlier) < tolerance && nearest(valid[1 - i].n, earlier) > 3.0 * tolerance) chosen = i;
+  }
+  if (chosen < 0) {
+    result->reason = "a plane, its two solutions not told apart yet";
+    return false;
+  }
+  const Solution& s = valid[chosen];
+  // Depths on the plane (d = 1), then median depth 1.
+  std::vector<double> depth;
+  std::vector<InitPoint> points;
+  for (size_t k = 0; k < rays.size(); ++k) {
+    const double nx = s.n.dot(rays[k]);
+    if (nx <= 0) continue;
+    depth.push_back(1.0 / nx);
+    points.push_back({pixels[k], static_cast<float>(nx)});
+  }
+  const double median = Median(depth);
+  for (InitPoint& p : points) p.idepth = static_cast<float>(p.idepth * median);
+  result->current_from_reference = SE3d(SO3d(s.R), s.t / median);
+  result->points = std::move(points);
+  result->planar = true;
+  result->ok = true;
+  return true;
 }
 
 }  // namespace dsm

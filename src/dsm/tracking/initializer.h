@@ -12,12 +12,26 @@
 //     parallax for the essential matrix to mean anything).
 // Otherwise it waits for more motion. The translation is scaled so that the median depth of the
 // triangulated points in the reference frame is 1.
+//
+// A hand-held start that sees mostly one plane (a wall) never passes the homography check, and its
+// essential matrix is ill-posed. So when the homography explains the tracks, its decomposition
+//   H ~ R + t n^T / d     (plane n^T X = d in the reference frame)
+// is used (`planar_start`) once it explains nearly every track the essential matrix does
+// (`planar_min_homography_ratio`; below it, the tracks off the plane soon give the essential
+// matrix its parallax): of its four solutions, those that put the inlier tracks in front of
+// both cameras remain, in general two — the true one and its twin, whose normal follows the
+// direction of motion. The true plane is the same for every frame, the twin's normal moves as the
+// hand changes direction, so a solution is taken when its normal agrees with one from a frame at
+// least `planar_frame_gap` frames earlier (within `planar_normal_tolerance_deg`) and its twin's
+// does not (beyond 3x that), and |t| / d exceeds the parallax bound (tan(min_parallax_deg)).
+// The tracks the homography explains then lie on the plane: depth d / (n^T x) along their rays x.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <opencv2/core.hpp>
 
 #include "dsm/geometry/camera.h"
 #include "dsm/image/image.h"
@@ -37,6 +51,10 @@ struct InitializerOptions {
   bool track_from_reference = false;  // Re-track each corner from the reference image every frame.
   bool refine_motion = false;         // Refine RANSAC's motion on all inliers (two_view.h).
   double refine_loss_px = 1.0;        // Cauchy scale of that refinement.
+  bool planar_start = true;           // Start from the homography when one plane fills the view.
+  double planar_min_homography_ratio = 0.98;
+  int planar_frame_gap = 4;
+  double planar_normal_tolerance_deg = 3.0;
 
   void Validate() const;
 };
@@ -53,6 +71,7 @@ struct InitResult {
   std::vector<InitPoint> points;  // Triangulated inliers.
   double parallax_deg = 0.0;
   double homography_ratio = 0.0;
+  bool planar = false;  // Started from the homography's plane.
 };
 
 class Initializer {
@@ -70,6 +89,11 @@ class Initializer {
  private:
   // Moves the live corners into `gray` (chained KLT, then directly from the reference).
   void TrackCorners(const Image<uint8_t>& gray);
+  // The planar start from the homography H (pixels) and its inlier tracks: records the normals
+  // of its solutions and, if `accept` (the homography explains the tracks), fills `result` when a
+  // solution is taken (see the header comment).
+  bool PlanarStart(const cv::Mat& H, const std::vector<cv::Point2f>& ref, const std::vector<cv::Point2f>& cur,
+                   const cv::Mat& h_mask, bool accept, InitResult* result);
 
   InitializerOptions options_;
   PinholeCamera camera_;
@@ -79,6 +103,9 @@ class Initializer {
   std::vector<bool> alive_;
   Image<uint8_t> reference_;
   Image<uint8_t> previous_;
+  int frames_ = 0;  // Frames added since the reference.
+  // Per frame added: the plane normals of the homography's solutions in front of both cameras.
+  std::vector<std::vector<Eigen::Vector3d>> plane_normals_;
 };
 
 }  // namespace dsm
