@@ -154,6 +154,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"keyframes", s.keyframes},
       {"map_points", system.NumMapPoints()},
       {"initialized_at_frame", s.initialized_at_frame},
+      {"initialization", s.initialization},
       {"image_noise_sigma", s.image_noise_sigma},
       {"smoothing_sigma", s.smoothing_sigma},
       {"points_created", s.points_created},

@@ -151,6 +151,7 @@ TEST(Run, HandHeldStartTracksTheFramesBeforeTheMap) {
   const RunSummary s = RunDataset(dataset, options, dir.parent_path() / "out");
   std::printf("pan: %s\n", s.line.c_str());
   EXPECT_LE(s.stats["initialized_at_frame"].get<int>(), 20);  // 1 s at 20 Hz.
+  EXPECT_EQ(s.stats["initialization"], "planar");
   EXPECT_EQ(s.stats["frames_tracked"].get<int>(), s.stats["frames"].get<int>());
   ASSERT_TRUE(s.eval.has_value());
   const double path = dataset.ground_truth.PathLength();

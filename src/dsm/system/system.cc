@@ -257,6 +257,7 @@ FrameReport System::Initialize(int index, int64_t t_ns, const Image<float>& imag
 
 void System::StartMap(const InitResult& init) {
   stats_.initialized_at_frame = pending_.back().index;
+  stats_.initialization = init.planar ? "planar" : "two-view";
   PendingFrame& first = pending_.front();
   PendingFrame& last = pending_.back();
   CreateKeyframe(first.index, first.t_ns, std::move(first.pyramid), first.exposure, SE3d(), AffineBrightness{});

@@ -54,6 +54,7 @@ struct FrameReport {
 struct SystemStats {
   int frames = 0, frames_tracked = 0, keyframes = 0;
   int initialized_at_frame = -1;
+  std::string initialization;  // How the map started: "two-view" or "planar" (initializer.h).
   double image_noise_sigma = -1.0;  // Noise level of the first frame (image/noise.h), grey levels.
   double smoothing_sigma = -1.0;    // Gaussian smoothing applied to every frame, pixels (0: none).
   std::vector<double> tracking_ms;  // Per tracked frame: its pyramid and alignment.

@@ -139,10 +139,11 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
   const int h_inliers = H.empty() ? 0 : cv::countNonZero(h_mask);
   result.homography_ratio = e_inliers > 0 ? static_cast<double>(h_inliers) / e_inliers : 1.0;
   const bool explained = result.homography_ratio > options_.max_homography_ratio;
-  const bool planar = options_.planar_start && !H.empty() &&
-                      PlanarStart(H, ref, cur, h_mask, result.homography_ratio >= options_.planar_min_homography_ratio, &result);
+  const bool plane_fills_view = result.homography_ratio >= options_.planar_min_homography_ratio;
+  const bool planar = options_.planar_start && !H.empty() && PlanarStart(H, ref, h_mask, plane_fills_view, &result);
   if (planar || explained) {
-    if (!planar) result.reason = "a homography explains the motion (ratio " + std::to_string(result.homography_ratio) + ")";
+    if (!planar)
+      result.reason = "a homography explains the motion (ratio " + std::to_string(result.homography_ratio) + ")";
     return result;
   }
   if (in_front < options_.min_inliers) {
@@ -213,8 +214,8 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
   return result;
 }
 
-bool Initializer::PlanarStart(const cv::Mat& H, const std::vector<cv::Point2f>& ref, const std::vector<cv::Point2f>& cur,
-                              const cv::Mat& h_mask, bool accept, InitResult* result) {
+bool Initializer::PlanarStart(const cv::Mat& H, const std::vector<cv::Point2f>& ref, const cv::Mat& h_mask, bool accept,
+                              InitResult* result) {
   const cv::Mat K = (cv::Mat_<double>(3, 3) << camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
   std::vector<cv::Mat> rotations, translations, normals;
   cv::decomposeHomographyMat(H, K, rotations, translations, normals);

@@ -89,11 +89,11 @@ class Initializer {
  private:
   // Moves the live corners into `gray` (chained KLT, then directly from the reference).
   void TrackCorners(const Image<uint8_t>& gray);
-  // The planar start from the homography H (pixels) and its inlier tracks: records the normals
-  // of its solutions and, if `accept` (the homography explains the tracks), fills `result` when a
-  // solution is taken (see the header comment).
-  bool PlanarStart(const cv::Mat& H, const std::vector<cv::Point2f>& ref, const std::vector<cv::Point2f>& cur,
-                   const cv::Mat& h_mask, bool accept, InitResult* result);
+  // The planar start from the homography H (pixels) and its inlier tracks (reference positions,
+  // h_mask): records the normals of its solutions and, if `accept` (the homography explains the
+  // tracks), fills `result` when a solution is taken (see the header comment).
+  bool PlanarStart(const cv::Mat& H, const std::vector<cv::Point2f>& ref, const cv::Mat& h_mask, bool accept,
+                   InitResult* result);
 
   InitializerOptions options_;
   PinholeCamera camera_;

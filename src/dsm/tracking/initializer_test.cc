@@ -116,8 +116,10 @@ TEST(Initializer, StartsOnAPlaneWithinTheFirstSecond) {
     // Depths up to the unknown scale: their ratio to the true depth, relative to its median.
     const Image<float> depth = synth::RenderSequenceFrame(seq, 0, {}).depth;
     std::vector<double> ratio;
-    for (const InitPoint& p : r.points)
-      ratio.push_back(depth(static_cast<int>(std::lround(p.pixel.x())), static_cast<int>(std::lround(p.pixel.y()))) * p.idepth);
+    for (const InitPoint& p : r.points) {
+      const int x = static_cast<int>(std::lround(p.pixel.x())), y = static_cast<int>(std::lround(p.pixel.y()));
+      ratio.push_back(depth(x, y) * p.idepth);
+    }
     std::sort(ratio.begin(), ratio.end());
     const double median = ratio[ratio.size() / 2];
     std::vector<double> off;
@@ -140,7 +142,8 @@ TEST(Initializer, RefusesPureRotationInFrontOfAPlane) {
   options.height = 240;
   synth::SynthSequence seq = synth::MakeSequence(options);
   // The panning without the hand's motion.
-  for (int i = 1; i < 40; ++i) seq.world_from_cam[i] = SE3d(seq.world_from_cam[i].So3(), seq.world_from_cam[0].Translation());
+  for (int i = 1; i < 40; ++i)
+    seq.world_from_cam[i] = SE3d(seq.world_from_cam[i].So3(), seq.world_from_cam[0].Translation());
   InitResult r;
   EXPECT_EQ(InitialisesAt(seq, 40, &r), -1) << "initialised on a pure rotation";
 }
