@@ -23,7 +23,7 @@ DATA="${DSM_SHARED_DATA_DIR:-../shared/data}"
 WORK="${1:-/tmp/dsm_benchmark}"
 mkdir -p "$WORK"
 
-SCENES=(loop forward rotation shake exposure orbit)
+SCENES=(loop forward rotation shake exposure orbit pan)
 LONG_FRAMES=6000
 if [ "${DSM_BENCH_QUICK:-0}" = 1 ]; then
   SCENES=(loop)
