@@ -299,7 +299,7 @@ void System::StartMap(const InitResult& init) {
   std::vector<PendingFrame> between(pending_.begin() + 1, pending_.begin() + std::max(1, k));
   for (const PendingFrame& p : between) frames_.push_back({p.t_ns, -1, SE3d()});
   // Tracked once the first bundle adjustments have settled the young map (FinishKeyframe).
-  init_between_ = {between, kf1_from_kf0, k};
+  init_between_ = {std::move(between), kf1_from_kf0, k};
   frames_.push_back({last.t_ns, 1, SE3d()});
   std::stable_sort(frames_.begin(), frames_.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   velocity_ = k > 0 ? Scale(kf1_from_kf0, 1.0 / k) : SE3d();
@@ -322,12 +322,12 @@ void System::TrackInitFrames() {
   const int n = static_cast<int>(between.size());
   const auto angle = [](const std::optional<TrackResult>& r) { return r->frame_from_keyframe.So3().Log().norm(); };
   // `stop(i, r)`: the chain ends before frame i.
+  std::vector<int> live;  // The young map's points, whichever keyframes the window holds by now.
+  for (int pid = 0; pid < map_.NumPoints(); ++pid)
+    if (!map_.point(pid).removed) live.push_back(pid);
   const auto chain = [&](int keyframe, SE3d step, bool forward, const auto& stop) {
     map_.LoadPyramids({keyframe});
     FrameTracker tracker(options_.tracker);
-    std::vector<int> live;
-    for (int pid = 0; pid < map_.NumPoints(); ++pid)
-      if (!map_.point(pid).removed) live.push_back(pid);
     tracker.SetReference(map_.keyframe(keyframe).pyramid.get(), camera_, ReferencePointsIn(keyframe, live));
     std::vector<std::optional<TrackResult>> out(n);
     SE3d previous;  // The neighbour's frame_from_keyframe.
@@ -364,11 +364,11 @@ void System::RunOnMappingSide(std::function<void()> job) {
 }
 
 void System::MergeInitTracked() {
-  for (const InitTracked& t : init_tracked_) {
+  for (const FrameRecordInternal& t : init_tracked_) {
     const auto it = std::lower_bound(frames_.begin(), frames_.end(), t.t_ns,
                                      [](const FrameRecordInternal& f, int64_t v) { return f.t_ns < v; });
     DSM_CHECK(it != frames_.end() && it->t_ns == t.t_ns, "an initialisation frame has no record");
-    *it = {t.t_ns, t.reference, t.frame_from_reference, t.baseline};
+    *it = t;
     ++stats_.frames_tracked;
   }
   init_tracked_.clear();

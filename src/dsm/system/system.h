@@ -169,8 +169,8 @@ class System {
   void Submit(MappingJob job);
   // A job of the mapping side, after the ones handed over before (inline when sequential).
   void RunOnMappingSide(std::function<void()> job);
-  // The initialisation frames the mapping side tracked, into the frame records (tracking side;
-  // threaded: once the mapping side is idle).
+  // The initialisation frames the mapping side tracked, into the frame records (at Finish, once
+  // the mapping side is idle).
   void MergeInitTracked();
   double InitBaseline() const;  // Distance between keyframes 0 and 1 (their camera centres).
   // On the mapping side, once keyframe kInitTrackingKeyframe is mapped (or at Finish): tracks
@@ -226,14 +226,9 @@ class System {
   int last_frame_keyframe_ = -1;  // The keyframe made from the last tracked frame, if any.
   bool want_keyframe_ = false;    // The last frame wanted a keyframe while one was pending.
   std::vector<FrameRecordInternal> frames_;
-  // Frames between the two initial keyframes as the mapping side tracked them (TrackInitFrames).
-  struct InitTracked {
-    int64_t t_ns = 0;
-    int reference = 1;  // Keyframe 0 or 1.
-    SE3d frame_from_reference;
-    double baseline = 0.0;  // Distance between keyframes 0 and 1 when it was tracked.
-  };
-  std::vector<InitTracked> init_tracked_;  // Written by the mapping side, merged by MergeInitTracked.
+  // Records of the frames between the two initial keyframes as the mapping side tracked them
+  // (TrackInitFrames), merged into frames_ by MergeInitTracked.
+  std::vector<FrameRecordInternal> init_tracked_;
   struct InitBetween {
     std::vector<PendingFrame> frames;  // Between keyframes 0 and 1, in order.
     SE3d kf1_from_kf0;                 // From the two-view start.

@@ -55,7 +55,6 @@ void Initializer::SetReference(const Image<float>& image, const PinholeCamera& c
   current_corners_ = reference_corners_;
   alive_.assign(reference_corners_.size(), true);
   has_reference_ = true;
-  frames_ = 0;
   plane_normals_.clear();
 }
 
@@ -110,7 +109,6 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
   const Image<uint8_t> gray = ToGray8(image);
   TrackCorners(gray);
   previous_ = gray;
-  ++frames_;
   plane_normals_.emplace_back();
 
   std::vector<cv::Point2f> ref, cur;
@@ -260,7 +258,8 @@ bool Initializer::PlanarStart(const cv::Mat& H, const std::vector<cv::Point2f>& 
     return best;
   };
   int chosen = -1;
-  for (int g = 0; g + options_.planar_frame_gap < frames_ && chosen < 0; ++g) {
+  const int frames = static_cast<int>(plane_normals_.size());
+  for (int g = 0; g + options_.planar_frame_gap < frames && chosen < 0; ++g) {
     const std::vector<Eigen::Vector3d>& earlier = plane_normals_[g];
     if (earlier.size() != 2) continue;
     for (int i = 0; i < 2; ++i)

@@ -103,8 +103,8 @@ class Initializer {
   std::vector<bool> alive_;
   Image<uint8_t> reference_;
   Image<uint8_t> previous_;
-  int frames_ = 0;  // Frames added since the reference.
-  // Per frame added: the plane normals of the homography's solutions in front of both cameras.
+  // Per frame added since the reference: the plane normals of the homography's solutions in front
+  // of both cameras.
   std::vector<std::vector<Eigen::Vector3d>> plane_normals_;
 };
 

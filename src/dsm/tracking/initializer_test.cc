@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -21,6 +22,16 @@ Image<float> RenderFloat(const synth::SynthSequence& seq, int i) {
   formation.noise_sigma = 1.0;
   formation.noise_seed = i;
   return synth::RenderSequenceFrame(seq, i, formation).image;
+}
+
+// A scene rendered at 320x240 (the initialiser's tests need no more).
+synth::SynthSequence SmallSequence(const std::string& scene, uint32_t seed = 1) {
+  synth::SynthOptions options;
+  options.scene = scene;
+  options.seed = seed;
+  options.width = 320;
+  options.height = 240;
+  return synth::MakeSequence(options);
 }
 
 struct MotionError {
@@ -48,11 +59,7 @@ int InitialisesAt(const synth::SynthSequence& seq, int max_frames, InitResult* o
 void ExpectStartsOnEverySyntheticScene(const InitializerOptions& init_options, double max_direction_deg,
                                        double max_rotation_deg) {
   for (const char* scene : {"loop", "shake", "forward", "rotation", "exposure", "orbit"}) {
-    synth::SynthOptions options;
-    options.scene = scene;
-    options.width = 320;
-    options.height = 240;
-    const synth::SynthSequence seq = synth::MakeSequence(options);
+    const synth::SynthSequence seq = SmallSequence(scene);
     InitResult r;
     const int at = InitialisesAt(seq, 30, &r, init_options);
     ASSERT_GE(at, 1) << scene << ": " << r.reason;
@@ -78,11 +85,7 @@ TEST(Initializer, RefinedStartIsAccurateOnEverySyntheticScene) {
 }
 
 TEST(Initializer, RefusesPureRotation) {
-  synth::SynthOptions options;
-  options.scene = "loop";
-  options.width = 320;
-  options.height = 240;
-  synth::SynthSequence seq = synth::MakeSequence(options);
+  synth::SynthSequence seq = SmallSequence("loop");
   // Same position, turning 0.4 degrees per frame.
   const SE3d start = seq.world_from_cam[0];
   for (int i = 0; i < 40; ++i) {
@@ -102,12 +105,7 @@ TEST(Initializer, RefusesPureRotation) {
 // depths on that plane.
 TEST(Initializer, StartsOnAPlaneWithinTheFirstSecond) {
   for (uint32_t seed : {1u, 2u, 3u}) {
-    synth::SynthOptions options;
-    options.scene = "pan";
-    options.seed = seed;
-    options.width = 320;
-    options.height = 240;
-    const synth::SynthSequence seq = synth::MakeSequence(options);
+    const synth::SynthSequence seq = SmallSequence("pan", seed);
     InitResult r;
     const int at = InitialisesAt(seq, 20, &r);
     ASSERT_GE(at, 1) << "seed " << seed << ": " << r.reason;
@@ -136,11 +134,7 @@ TEST(Initializer, StartsOnAPlaneWithinTheFirstSecond) {
 }
 
 TEST(Initializer, RefusesPureRotationInFrontOfAPlane) {
-  synth::SynthOptions options;
-  options.scene = "pan";
-  options.width = 320;
-  options.height = 240;
-  synth::SynthSequence seq = synth::MakeSequence(options);
+  synth::SynthSequence seq = SmallSequence("pan");
   // The panning without the hand's motion.
   for (int i = 1; i < 40; ++i)
     seq.world_from_cam[i] = SE3d(seq.world_from_cam[i].So3(), seq.world_from_cam[0].Translation());
