@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "dsm/image/noise.h"
+#include "dsm/mapping/projection.h"
 #include "dsm/system/mapping_thread.h"
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/initializer.h"
@@ -277,18 +278,29 @@ void System::StartMap(const InitResult& init) {
     ++stats_.points_created;
     ++stats_.per_keyframe.back().points_created;
   }
-  SelectCandidates(0);
-  // Candidates of keyframe 0 traced in keyframe 1 with the initial pose.
   window_ = {0};
-  // Brightness guess: only the exposure changed (alpha = log(tau_1 / tau_0), so a_1 = 0).
-  TraceCandidates(map_.keyframe(1).Pyramid(), 0, init.current_from_reference, std::log(last.exposure / first.exposure),
-                  0.0, last.exposure);
   frames_.push_back({first.t_ns, 0, SE3d()});
-  MapNewKeyframe(1);
-  // From here on the map is the mapping side's: what is left of keyframe 1 (its candidates) and
-  // the frames between the two keyframes (tracked against keyframe 1; only their poses are output)
-  // run there, so that a live camera's next frame does not wait for them.
-  RunOnMappingSide([this] { FinishKeyframe(1); });
+  // Until keyframe 1 is mapped, frames are tracked against it with the initialiser's depths.
+  std::vector<ReferencePoint> initial;
+  for (int pid : map_.keyframe(0).points) {
+    Eigen::Vector2f px;
+    float rho;
+    if (ProjectPoint(map_, camera_, map_.point(pid), 1, 2.f, &px, &rho)) initial.push_back({px, rho});
+  }
+  PublishReference(1, std::move(initial));
+  // From here on the map is the mapping side's: keyframe 1's mapping (keyframe 0's candidates
+  // traced in it with the initial pose, its first bundle adjustment) and what follows run there,
+  // so that a live camera's next frame does not wait for them. Brightness guess: only the exposure
+  // changed (alpha = log(tau_1 / tau_0), so a_1 = 0).
+  const double alpha = std::log(last.exposure / first.exposure), exposure = last.exposure;
+  RunOnMappingSide(
+      [this, pose = init.current_from_reference, alpha, exposure] {
+        SelectCandidates(0);
+        TraceCandidates(map_.keyframe(1).Pyramid(), 0, pose, alpha, 0.0, exposure);
+        MapNewKeyframe(1);
+        FinishKeyframe(1);
+      },
+      /*keyframe=*/true);
   next_keyframe_ = 2;
   last_frame_keyframe_ = 1;
   UpdateReference(false);
@@ -355,9 +367,9 @@ void System::TrackInitFrames() {
   }
 }
 
-void System::RunOnMappingSide(std::function<void()> job) {
+void System::RunOnMappingSide(std::function<void()> job, bool keyframe) {
   if (mapping_thread_) {
-    mapping_thread_->Submit(std::move(job), false);
+    mapping_thread_->Submit(std::move(job), keyframe);
   } else {
     job();
   }

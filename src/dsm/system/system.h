@@ -167,8 +167,9 @@ class System {
   // when `wait`), and moves the last frame's pose and brightness onto it.
   void UpdateReference(bool wait);
   void Submit(MappingJob job);
-  // A job of the mapping side, after the ones handed over before (inline when sequential).
-  void RunOnMappingSide(std::function<void()> job);
+  // A job of the mapping side, after the ones handed over before (inline when sequential);
+  // `keyframe`: counted as a keyframe being mapped (UpdateReference waits for it).
+  void RunOnMappingSide(std::function<void()> job, bool keyframe = false);
   // The initialisation frames the mapping side tracked, into the frame records (at Finish, once
   // the mapping side is idle).
   void MergeInitTracked();
@@ -186,6 +187,8 @@ class System {
                        double beta, double exposure);
   void CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                       const SE3d& cam_from_world, const AffineBrightness& affine);
+  // Hands keyframe kf with `points` to the tracking side (it takes them in UpdateReference).
+  void PublishReference(int kf, std::vector<ReferencePoint> points);
   // Maps keyframe kf and publishes it as the tracking reference.
   void MapNewKeyframe(int kf);
   // What the tracking reference does not need, done after it is published: kf's candidates (traced

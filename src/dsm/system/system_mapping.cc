@@ -281,13 +281,16 @@ std::vector<ReferencePoint> System::ReferencePointsIn(int kf, const std::vector<
 }
 
 void System::PublishTrackingReference() {
-  auto ref = std::make_shared<TrackingReference>();
   const int newest = window_.back();
-  const Keyframe& keyframe = map_.keyframe(newest);
-  ref->points = ReferencePointsIn(newest, ActivePointIds());
-  ref->keyframe = newest;
-  ref->pyramid = keyframe.pyramid;
-  for (int k = 0; k <= newest; ++k) {
+  PublishReference(newest, ReferencePointsIn(newest, ActivePointIds()));
+}
+
+void System::PublishReference(int kf, std::vector<ReferencePoint> points) {
+  auto ref = std::make_shared<TrackingReference>();
+  ref->points = std::move(points);
+  ref->keyframe = kf;
+  ref->pyramid = map_.keyframe(kf).pyramid;
+  for (int k = 0; k <= kf; ++k) {
     ref->cam_from_world.push_back(map_.keyframe(k).cam_from_world);
     ref->affine.push_back(map_.keyframe(k).affine);
     ref->exposure.push_back(map_.keyframe(k).exposure);
