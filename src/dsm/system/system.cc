@@ -9,7 +9,6 @@
 #include <tbb/parallel_for.h>
 
 #include "dsm/image/noise.h"
-#include "dsm/mapping/projection.h"
 #include "dsm/system/mapping_thread.h"
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/initializer.h"
@@ -197,8 +196,9 @@ void System::UpdateReference(bool wait) {
   }
   if (next == reference_) return;
   if (reference_ && last_frame_keyframe_ != next->keyframe) {
-    // The last frame is not the new reference keyframe (it was made while tracking went on, or
-    // the last frame was lost): its pose and brightness move from the old reference to it.
+    // The last frame is not the new reference keyframe (it was made while tracking went on, the
+    // last frame was lost, or the same keyframe comes back adjusted, as keyframe 1 does after the
+    // start): its pose and brightness move from the old reference to it.
     // Both keyframes as the new snapshot has them (the bundle adjustment moved both since).
     const int o = reference_->keyframe, n = next->keyframe;
     last_frame_from_reference_ = last_frame_from_reference_ * next->cam_from_world[o] * next->cam_from_world[n].Inverse();
@@ -281,13 +281,7 @@ void System::StartMap(const InitResult& init) {
   window_ = {0};
   frames_.push_back({first.t_ns, 0, SE3d()});
   // Until keyframe 1 is mapped, frames are tracked against it with the initialiser's depths.
-  std::vector<ReferencePoint> initial;
-  for (int pid : map_.keyframe(0).points) {
-    Eigen::Vector2f px;
-    float rho;
-    if (ProjectPoint(map_, camera_, map_.point(pid), 1, 2.f, &px, &rho)) initial.push_back({px, rho});
-  }
-  PublishReference(1, std::move(initial));
+  PublishReference(1, ReferencePointsIn(1, map_.keyframe(0).points, /*adjusted=*/false));
   // From here on the map is the mapping side's: keyframe 1's mapping (keyframe 0's candidates
   // traced in it with the initial pose, its first bundle adjustment) and what follows run there,
   // so that a live camera's next frame does not wait for them. Brightness guess: only the exposure
@@ -301,6 +295,10 @@ void System::StartMap(const InitResult& init) {
         FinishKeyframe(1);
       },
       /*keyframe=*/true);
+  // The next frame waits for it unless frames are live (Process): the tracking residual it
+  // measures is the baseline of the keyframe decision's residual rule, which frames tracked
+  // against the initialiser's depths would set too high.
+  want_keyframe_ = true;
   next_keyframe_ = 2;
   last_frame_keyframe_ = 1;
   UpdateReference(false);

@@ -178,8 +178,9 @@ class System {
   // init_between_ into init_tracked_.
   void TrackInitFrames();
   static constexpr int kInitTrackingKeyframe = 4;
-  // The points among `ids` the bundle adjustment saw in keyframe `kf`, projected into it.
-  std::vector<ReferencePoint> ReferencePointsIn(int kf, const std::vector<int>& ids);
+  // The points among `ids` the bundle adjustment saw in keyframe `kf`, projected into it
+  // (`adjusted` false: before kf's first bundle adjustment, every point that projects into it).
+  std::vector<ReferencePoint> ReferencePointsIn(int kf, const std::vector<int>& ids, bool adjusted = true);
   // Mapping side.
   void RunJob(const MappingJob& job);  // Traces candidates; maps the frame when it is a keyframe.
   void RunFinishJob(int kf);           // FinishKeyframe, timed.
@@ -227,7 +228,7 @@ class System {
   std::shared_ptr<const TrackingReference> reference_;  // The tracker's.
   int next_keyframe_ = 0;         // Id of the next keyframe the tracking side makes.
   int last_frame_keyframe_ = -1;  // The keyframe made from the last tracked frame, if any.
-  bool want_keyframe_ = false;    // The last frame wanted a keyframe while one was pending.
+  bool want_keyframe_ = false;    // The next frame waits for the pending keyframe (wait_for_mapping).
   std::vector<FrameRecordInternal> frames_;
   // Records of the frames between the two initial keyframes as the mapping side tracked them
   // (TrackInitFrames), merged into frames_ by MergeInitTracked.

@@ -266,13 +266,14 @@ void System::SelectCandidates(int kf) {
   }
 }
 
-std::vector<ReferencePoint> System::ReferencePointsIn(int kf, const std::vector<int>& ids) {
+std::vector<ReferencePoint> System::ReferencePointsIn(int kf, const std::vector<int>& ids, bool adjusted) {
   std::vector<ReferencePoint> points;
+  const bool verified = adjusted && options_.tracker.verified_reference;
   for (int pid : ids) {
     Point& p = map_.point(pid);
     // Only points the bundle adjustment saw in the keyframe (TrackerOptions).
     const Observation* o = p.FindObservation(kf);
-    if (options_.tracker.verified_reference && p.host != kf && (o == nullptr || o->outlier)) continue;
+    if (verified && p.host != kf && (o == nullptr || o->outlier)) continue;
     Eigen::Vector2f px;
     float rho;
     if (ProjectPoint(map_, camera_, p, kf, 2.f, &px, &rho)) points.push_back({px, rho});
