@@ -4,7 +4,8 @@ set(DSM_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wno-psabi
 
 function(dsm_target_flags target)
   # -fopenmp-simd: `#pragma omp simd` marks loops (reductions) to vectorise; no OpenMP runtime.
-  target_compile_options(${target} PRIVATE ${DSM_WARNINGS} -fopenmp-simd)
+  # -fno-math-errno: sqrt and the like need not set errno, so they vectorise (same values).
+  target_compile_options(${target} PRIVATE ${DSM_WARNINGS} -fopenmp-simd -fno-math-errno)
   if(DSM_MARCH_NATIVE)
     target_compile_options(${target} PRIVATE -march=native)
   endif()

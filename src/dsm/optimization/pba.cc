@@ -464,18 +464,44 @@ class Problem {
     for (size_t c = 0; c < cams_.size(); ++c) map_->keyframe(cams_[c]).error_model = models_[c];
   }
 
-  // Robust energy of the 8 pixels; counts pixels above the inlier threshold into *bad.
-  static double PixelEnergy(const PatternValues& residuals, const PatternValues& weight_g, const ErrorModel& model,
-                            int* bad) {
+  // Robust energy of the 8 pixels given sqrt(w_g) per pixel; counts pixels above the inlier
+  // threshold into *bad. The t-distribution's is computed lane-wise (vectorised) with the values
+  // ErrorModel::Energy gives, summed in pixel order.
+  static double PixelEnergy(const PatternValues& residuals, const PatternValues& sqrt_weight_g,
+                            const ErrorModel& model, int* bad) {
     double e = 0.0;
     int n_bad = 0;
-    for (int k = 0; k < kPatternSize; ++k) {
-      const double r = std::sqrt(weight_g[k]) * residuals[k];
-      e += model.Energy(r);
-      n_bad += model.IsOutlier(r);
+    if (model.kind == RobustKind::kStudentT) {
+      alignas(32) float log_terms[kPatternSize];
+      alignas(32) int outlier[kPatternSize];
+      const float inv = static_cast<float>(1.0 / (model.nu * model.sigma * model.sigma));
+      const double threshold = model.inlier_threshold;
+#pragma omp simd
+      for (int k = 0; k < kPatternSize; ++k) {
+        const float r = sqrt_weight_g[k] * residuals[k];
+        log_terms[k] = FastLog1p(r * r * inv);
+        outlier[k] = static_cast<double>(std::abs(r)) > threshold;
+      }
+      const double scale = 0.5 * (model.nu + 1.0);
+      for (int k = 0; k < kPatternSize; ++k) {
+        e += scale * log_terms[k];
+        n_bad += outlier[k];
+      }
+    } else {
+      for (int k = 0; k < kPatternSize; ++k) {
+        const double r = sqrt_weight_g[k] * residuals[k];
+        e += model.Energy(r);
+        n_bad += model.IsOutlier(r);
+      }
     }
     if (bad) *bad = n_bad;
     return e;
+  }
+  static PatternValues SqrtOf(const PatternValues& v) {
+    PatternValues out;
+#pragma omp simd
+    for (int k = 0; k < kPatternSize; ++k) out[k] = std::sqrt(v[k]);
+    return out;
   }
   static double InvalidEnergy(const ErrorModel& model) { return kPatternSize * model.Energy(2.0 * model.inlier_threshold); }
 
@@ -500,23 +526,36 @@ class Problem {
         energy += InvalidEnergy(model);
         continue;
       }
-      if (o.enabled[cur]) *judged += PixelEnergy(res.r, o.weight_g[cur], model, nullptr);
+      if (o.enabled[cur]) *judged += PixelEnergy(res.r, SqrtOf(o.weight_g[cur]), model, nullptr);
       o.weight_g[trial] = res.weight_g;
       o.valid[trial] = true;
-      for (int k = 0; k < kPatternSize; ++k) o.residual[trial][k] = std::sqrt(res.weight_g[k]) * res.r[k];
+      const PatternValues sqrt_w = SqrtOf(res.weight_g);
+      PatternValues& weighted = o.residual[trial];
+#pragma omp simd
+      for (int k = 0; k < kPatternSize; ++k) weighted[k] = sqrt_w[k] * res.r[k];
       Remember(res, &o);
       int bad = 0;
-      const double e = PixelEnergy(res.r, res.weight_g, model, &bad);
+      const double e = PixelEnergy(res.r, sqrt_w, model, &bad);
       o.enabled[trial] = bad <= options_.skip_outlier_ratio * kPatternSize;
       if (!o.enabled[trial]) continue;
       energy += e;
-      // Per pixel: w = w_g * w_rho(sqrt(w_g) r).
+      // Per pixel: w = w_g * w_rho(sqrt(w_g) r) (lane-wise; the product sqrt(w_g) r is exact in double).
       const Eigen::Matrix<double, kPatternSize, 1> Jr = res.J_idepth.cast<double>();
       Eigen::Matrix<double, kPatternSize, 1> w, r;
-      for (int k = 0; k < kPatternSize; ++k) {
-        const double rk = res.r[k];
-        w(k) = res.weight_g[k] * model.Weight(std::sqrt(res.weight_g[k]) * rk);
-        r(k) = rk;
+      if (model.kind == RobustKind::kStudentT) {
+        const double nu1 = model.nu + 1.0, nu_s2 = model.nu * model.sigma * model.sigma;
+#pragma omp simd
+        for (int k = 0; k < kPatternSize; ++k) {
+          const double rk = res.r[k], rw = sqrt_w[k] * rk;
+          w(k) = res.weight_g[k] * (nu1 / (nu_s2 + rw * rw));
+          r(k) = rk;
+        }
+      } else {
+        for (int k = 0; k < kPatternSize; ++k) {
+          const double rk = res.r[k];
+          w(k) = res.weight_g[k] * model.Weight(sqrt_w[k] * rk);
+          r(k) = rk;
+        }
       }
       block->H_pp += Jr.dot(w.asDiagonal() * Jr);
       block->b_p += Jr.dot(w.asDiagonal() * r);
