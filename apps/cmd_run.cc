@@ -3,6 +3,7 @@
 
 #include "apps/commands.h"
 #include "dsm/io/options_io.h"
+#include "dsm/run/interrupt.h"
 #include "dsm/run/run.h"
 #include "dsm/util/check.h"
 
@@ -70,9 +71,11 @@ Command AddRun(CLI::App& app) {
     // The per-keyframe diagnostics read the map after each keyframe: only sequential allows that.
     if (!options.debug_dir.empty() && !a->realtime) options.pace = Pace::kSequential;
     const Dataset dataset = OpenDataset(a->dataset, a->gt.Parse());
+    CatchInterrupts();
     const RunSummary summary = RunDataset(dataset, options, a->out);
-    std::printf("%s\n", summary.line.c_str());
-    return 0;
+    std::printf("%s%s\n", summary.line.c_str(), summary.interrupt_signal ? " (interrupted)" : "");
+    // The shell's convention for a process ended by a signal: 128 + its number (SIGINT 130, SIGTERM 143).
+    return summary.interrupt_signal ? 128 + summary.interrupt_signal : 0;
   };
 }
 

@@ -264,6 +264,9 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
        "window.temporal_keyframes"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 500 --out " + (dir / "o").string(), "--start"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gt-frame imu", "--gt-frame"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 339 --out " + (dir / "o").string(),
+       "at least two frames"},
+      {"synth --scene loop --out " + (dir / "x").string() + " --defects fog:3", "--defects: unknown kind 'fog'"},
       {"info " + (dir / "badcam").string() + " --gt-quaternion jpl", "EuRoC datasets only"},
       {"info " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gt-out " + (dir / "no" / "gt.tum").string(),
        "gt.tum: cannot write"},
@@ -276,6 +279,61 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
     EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
     EXPECT_TRUE(Contains(r.output, c.expected)) << c.args << "\n" << r.output;
   }
+}
+
+}  // namespace
+}  // namespace dsm
+
+namespace dsm {
+namespace {
+
+nlohmann::json ReadJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+// Damaged files cost their frame, with one warning naming the file (not the codec's own output);
+// black and noise frames go through the system without numeric failures.
+TEST(Cli, BadFramesCostTheirFrameNotTheRun) {
+  const fs::path dir = ScratchDir("cli_bad_frames");
+  ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() +
+                   " --frames 40 --width 320 --height 240 --defects corrupt:12,truncated:13,empty:14,black:20-22,noise:25")
+                .code,
+            0);
+  const Result r = RunDsm("run " + (dir / "seq").string() + " --sequential --quiet --out " + (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(Contains(r.output, "000012.png: cannot decode the image (corrupt PNG: chunk IDAT")) << r.output;
+  EXPECT_TRUE(Contains(r.output, "000013.png: cannot decode the image (truncated PNG")) << r.output;
+  EXPECT_TRUE(Contains(r.output, "000014.png: cannot decode the image (empty file); frame 14 skipped")) << r.output;
+  EXPECT_FALSE(Contains(r.output, "libpng")) << r.output;
+  const nlohmann::json stats = ReadJson(dir / "out" / "stats.json");
+  EXPECT_EQ(stats["frames_skipped"], 3);
+  EXPECT_EQ(stats["skipped_frames"], nlohmann::json::array({12, 13, 14}));
+  EXPECT_EQ(stats["frames"], 37);
+  EXPECT_EQ(stats["interrupted"], false);
+  EXPECT_GE(ReadTrajectory(dir / "out" / "frames.tum", TrajectoryFormat::kTum).size(), 12u);
+}
+
+// SIGTERM (and SIGINT) finish the current frame and write what the run has: exit 128 + signal.
+TEST(Cli, SigtermWritesTheRunSoFar) {
+  const fs::path dir = ScratchDir("cli_sigterm");
+  ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() + " --frames 200 --width 320 --height 240").code, 0);
+  // Realtime pace: 200 frames at 20 Hz take 10 s, the signal comes after 3.
+  const std::string command = "sh -c '" + std::string(DSM_CLI_PATH) + " run " + (dir / "seq").string() +
+                              " --realtime --quiet --out " + (dir / "out").string() +
+                              " > " + (dir / "log.txt").string() + " 2>&1 & p=$!; sleep 3; kill -TERM $p; wait $p; echo $?'";
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  char code[32] = {0};
+  ASSERT_NE(fgets(code, sizeof(code), pipe), nullptr);
+  pclose(pipe);
+  EXPECT_EQ(std::atoi(code), 143);
+  const nlohmann::json stats = ReadJson(dir / "out" / "stats.json");
+  EXPECT_EQ(stats["interrupted"], true);
+  EXPECT_LT(stats["frames"].get<int>(), 200);
+  EXPECT_GT(stats["frames"].get<int>(), 10);
+  EXPECT_TRUE(fs::exists(dir / "out" / "keyframes.tum"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "eval.json"));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "dsm/io/encoded_image_check.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -47,6 +48,8 @@ void Write(const std::filesystem::path& path, const cv::Mat& m) {
 }  // namespace
 
 Image<uint8_t> DecodeGray8(const std::vector<uint8_t>& bytes, const std::string& source) {
+  const std::string damage = CheckEncodedImage(bytes);
+  if (!damage.empty()) throw InputError(source + ": cannot decode the image (" + damage + ")");
   cv::Mat m;
   try {
     m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);

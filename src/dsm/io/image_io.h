@@ -12,7 +12,7 @@
 namespace dsm {
 
 // Decodes an encoded image (PNG, JPEG, ...) to 8-bit grey: colour is converted, 16 bit scaled down.
-// Throws InputError naming `source` when it cannot be decoded.
+// Throws InputError naming `source` when it cannot be decoded (damaged files: encoded_image_check.h).
 Image<uint8_t> DecodeGray8(const std::vector<uint8_t>& bytes, const std::string& source);
 Image<uint8_t> ReadGray8(const std::filesystem::path& path);
 

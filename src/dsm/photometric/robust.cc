@@ -54,6 +54,8 @@ double NuFromKurtosis(const std::vector<float>& kept, const RobustOptions& optio
   }
   m2 /= kept.size();
   m4 /= kept.size();
+  // All residuals zero (a uniform image against a uniform image): no tails to measure.
+  if (!(m2 > 0.0)) return ClampNu(kMaxNu, options);
   const double kurtosis = std::max(m4 / (m2 * m2), 4.0);
   return ClampNu((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), options);
 }
@@ -252,7 +254,12 @@ ErrorModel FitErrorModel(const std::vector<float>& residuals, const RobustOption
     m.inlier_threshold = m.outlier_threshold = m.huber_k;
     return m;
   }
-  return options.outlier_mixture ? FitTMixture(abs_r, mad_sigma, options, m) : FitTruncatedT(abs_r, mad_sigma, options, m);
+  const ErrorModel fitted =
+      options.outlier_mixture ? FitTMixture(abs_r, mad_sigma, options, m) : FitTruncatedT(abs_r, mad_sigma, options, m);
+  // A degenerate sample (e.g. a black frame) must not leave a model that poisons later sums.
+  const bool finite = std::isfinite(fitted.nu) && std::isfinite(fitted.sigma) && std::isfinite(fitted.inlier_threshold) &&
+                      std::isfinite(fitted.outlier_threshold) && fitted.sigma > 0.0;
+  return finite ? fitted : m;
 }
 
 }  // namespace dsm

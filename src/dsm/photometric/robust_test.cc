@@ -111,6 +111,19 @@ TEST(FitErrorModel, HuberVariantsAndSmallSamples) {
   EXPECT_THROW(ParseRobustKind("cauchy", "--robust"), std::exception);
 }
 
+TEST(FitErrorModel, UniformResidualsGiveAFiniteModel) {
+  // A black frame against a black frame: every residual zero (or all alike).
+  for (const bool mixture : {true, false}) {
+    RobustOptions options;
+    options.outlier_mixture = mixture;
+    for (const float value : {0.f, 3.f}) {
+      const ErrorModel m = FitErrorModel(std::vector<float>(4000, value), options);
+      EXPECT_TRUE(std::isfinite(m.nu) && std::isfinite(m.sigma) && m.sigma > 0.0) << mixture << " " << value;
+      EXPECT_TRUE(std::isfinite(m.inlier_threshold) && std::isfinite(m.Weight(1.0)) && std::isfinite(m.Energy(1.0)));
+    }
+  }
+}
+
 TEST(CapErrorModelScale, BoundsSigmaAndScalesTheThresholdsWithIt) {
   ErrorModel m;
   m.nu = 1.5;

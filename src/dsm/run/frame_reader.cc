@@ -15,6 +15,16 @@ Image<float> ReadFrame(const Dataset& dataset, const Undistorter& undistorter, i
   return undistorter.Apply(irradiance);
 }
 
+FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i) {
+  FrameOrError out;
+  try {
+    out.image = ReadFrame(dataset, undistorter, i);
+  } catch (const InputError& e) {
+    out.error = e.what();
+  }
+  return out;
+}
+
 FrameReader::FrameReader(const Dataset& dataset, const Undistorter& undistorter, int start, int end, int depth)
     : dataset_(dataset), undistorter_(undistorter), start_(start), end_(end), depth_(depth) {
   DSM_CHECK(depth >= 1, "the reader needs a buffer");
@@ -42,9 +52,9 @@ void FrameReader::Loop() {
     }
     bool failed = false;
     try {
-      Image<float> image = ReadFrame(dataset_, undistorter_, i);
+      FrameOrError frame = TryReadFrame(dataset_, undistorter_, i);
       std::lock_guard<std::mutex> lock(mutex_);
-      frames_.emplace_back(i, std::move(image));
+      frames_.emplace_back(i, std::move(frame));
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);
       error_ = std::current_exception();
@@ -55,16 +65,16 @@ void FrameReader::Loop() {
   }
 }
 
-Image<float> FrameReader::Take(int index) {
+FrameOrError FrameReader::Take(int index) {
   std::unique_lock<std::mutex> lock(mutex_);
   ready_.wait(lock, [this] { return !frames_.empty() || error_ != nullptr; });
   if (frames_.empty()) std::rethrow_exception(error_);
   DSM_CHECK(frames_.front().first == index, "frames are taken in order");
-  Image<float> image = std::move(frames_.front().second);
+  FrameOrError frame = std::move(frames_.front().second);
   frames_.pop_front();
   lock.unlock();
   space_.notify_one();
-  return image;
+  return frame;
 }
 
 }  // namespace dsm

@@ -4,13 +4,16 @@
 // FrameReader does this on its own thread (at a lower priority), up to `depth` frames ahead of the
 // consumer, as a camera driver fills its buffers while the last frame is processed: decoding and
 // undistortion (about half a frame's time at 752x480) overlap tracking instead of adding to it.
-// Frames are taken in order; a frame that cannot be read rethrows its error when it is taken.
+// Frames are taken in order. A frame whose file is bad (missing, damaged, another size than the
+// calibration's: an InputError) comes with the reason instead of an image, and reading goes on;
+// any other error is rethrown when its frame is taken.
 #pragma once
 
 #include <condition_variable>
 #include <deque>
 #include <exception>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <utility>
 
@@ -23,6 +26,13 @@ namespace dsm {
 // Frame i of `dataset`, ready for System::Process.
 Image<float> ReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i);
 
+// Frame i, or the InputError's message (naming the file) when the frame cannot be used.
+struct FrameOrError {
+  Image<float> image;
+  std::string error;  // Empty: `image` is the frame.
+};
+FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i);
+
 class FrameReader {
  public:
   // Reads frames start .. end-1 (the dataset and undistorter must outlive the reader).
@@ -31,8 +41,8 @@ class FrameReader {
   FrameReader(const FrameReader&) = delete;
   FrameReader& operator=(const FrameReader&) = delete;
 
-  // Frame `index` (the next one in order), once read; rethrows the error of reading it.
-  Image<float> Take(int index);
+  // Frame `index` (the next one in order), once read; rethrows an error other than a bad file.
+  FrameOrError Take(int index);
 
  private:
   void Loop();
@@ -42,7 +52,7 @@ class FrameReader {
   const int start_, end_, depth_;
   std::mutex mutex_;
   std::condition_variable space_, ready_;
-  std::deque<std::pair<int, Image<float>>> frames_;  // Read, not taken yet, in order.
+  std::deque<std::pair<int, FrameOrError>> frames_;  // Read, not taken yet, in order.
   std::exception_ptr error_;  // Of the frame after the last one in frames_.
   bool stop_ = false;
   std::thread thread_;

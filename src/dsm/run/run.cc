@@ -15,6 +15,7 @@
 #include "dsm/io/trajectory_io.h"
 #include "dsm/run/debug_writer.h"
 #include "dsm/run/frame_reader.h"
+#include "dsm/run/interrupt.h"
 #include "dsm/system/system.h"
 #include "dsm/util/check.h"
 
@@ -65,6 +66,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   if (options.start < 0 || options.start >= end) {
     throw InputError("--start/--end select no frames (the dataset has " + std::to_string(n) + ")");
   }
+  if (end - options.start < 2) {
+    throw InputError(dataset.root.string() + ": a run needs at least two frames (" +
+                     std::to_string(end - options.start) + " selected)");
+  }
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) throw InputError(out_dir.string() + ": cannot create the output folder (" + ec.message() + ")");
@@ -93,7 +98,14 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   if (options.pace != Pace::kRealtime) reader.emplace(dataset, undistorter, options.start, end, 2);
   std::vector<double> latency_ms;  // Frame release (free, sequential: the reader hands it over) to pose.
   int dropped = 0;
+  std::vector<int> skipped;  // Frames whose file could not be used.
+  bool interrupted = false;
+  int last_frame = options.start - 1;  // The last frame taken (processed or skipped).
   for (int i = options.start; i < end; ++i) {
+    if (InterruptSignal() != 0) {
+      interrupted = true;
+      break;
+    }
     auto released = std::chrono::steady_clock::now();
     if (options.pace == Pace::kRealtime) {
       // Frames that arrived while tracking was busy: only the newest is kept, as a camera driver
@@ -105,9 +117,16 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       if (release(i) > released) std::this_thread::sleep_until(release(i));
       released = release(i);
     }
-    const Image<float> image = reader ? reader->Take(i) : ReadFrame(dataset, undistorter, i);
+    const FrameOrError frame = reader ? reader->Take(i) : TryReadFrame(dataset, undistorter, i);
+    last_frame = i;
+    if (!frame.error.empty()) {
+      // A bad file in a recording costs its frame, not the run.
+      std::fprintf(stderr, "dsm: warning: %s; frame %d skipped\n", frame.error.c_str(), i);
+      skipped.push_back(i);
+      continue;
+    }
     if (reader) released = std::chrono::steady_clock::now();
-    const FrameReport r = system.Process(i, dataset.frames[i].t_ns, image, dataset.frames[i].exposure_ms);
+    const FrameReport r = system.Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms);
     latency_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - released).count());
     if (debug && r.keyframe) debug->AddKeyframes(system);
     if (!options.quiet && (r.keyframe || r.status == TrackingStatus::kLost)) {
@@ -120,9 +139,9 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   // Speed against the recording: the frames' time span (one frame interval per frame) over the
   // time spent reading and processing them (mapping included); > 1 is faster than real time.
   const double process_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - process0).count();
-  const int processed = end - options.start;
+  const int processed = last_frame + 1 - options.start;  // Frames read or skipped.
   const double recording_s =
-      processed > 1 ? 1e-9 * static_cast<double>(dataset.frames[end - 1].t_ns - dataset.frames[options.start].t_ns) *
+      processed > 1 ? 1e-9 * static_cast<double>(dataset.frames[last_frame].t_ns - dataset.frames[options.start].t_ns) *
                           processed / (processed - 1)
                     : 0.0;
   const double fps = processed / process_s, realtime_factor = recording_s / process_s;
@@ -168,6 +187,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   if (options.global_ba) summary.stats["timing_ms"]["global_ba"] = s.global_ba_ms;
   summary.stats["pace"] = PaceName(options.pace);
   summary.stats["frames_dropped"] = dropped;
+  summary.stats["frames_skipped"] = skipped.size();
+  summary.stats["skipped_frames"] = skipped;
+  summary.stats["interrupted"] = interrupted;
+  summary.interrupt_signal = interrupted ? InterruptSignal() : 0;
   const nlohmann::json latency = TimingStats(latency_ms);
   summary.stats["latency_ms"] = {{"median", latency["median"]}, {"p90", latency["p90"]}, {"max", latency["max"]}};
   summary.stats["keyframe_queue_max"] = s.keyframe_queue_max;

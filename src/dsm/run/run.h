@@ -42,9 +42,13 @@ struct RunSummary {
   // {"keyframes": ..., "frames": ...}; with the global BA also "keyframes_before_global_ba".
   std::optional<nlohmann::json> eval;
   std::string line;                    // One-line summary.
+  int interrupt_signal = 0;  // The signal that stopped the run early (interrupt.h), or 0.
 };
 
-// Throws InputError for bad ranges or unreadable frames (naming the file).
+// Throws InputError for bad ranges or fewer than two frames. A frame whose file cannot be used is
+// skipped with a warning on stderr naming it (stats: frames_skipped, skipped_frames). After SIGINT /
+// SIGTERM (interrupt.h; the caller installs the handlers) the run stops after the current frame and
+// writes its outputs (stats: "interrupted": true).
 RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const std::filesystem::path& out_dir);
 
 }  // namespace dsm

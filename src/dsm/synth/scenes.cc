@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <random>
 
+#include "dsm/synth/defects.h"
 #include "dsm/util/check.h"
 
 namespace dsm::synth {
@@ -121,6 +122,7 @@ void SynthOptions::Validate() const {
   if (!(noise_sigma >= 0 && noise_sigma <= 50)) throw InputError("--noise must be within 0..50 grey levels");
   if (!(vignette >= 0 && vignette <= 0.8)) throw InputError("--vignette must be within 0..0.8");
   if (!(blur_sigma >= 0 && blur_sigma <= 10)) throw InputError("--blur must be within 0..10 pixels");
+  ParseDefects(defects);
 }
 
 SE3d LookAt(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {

@@ -34,6 +34,7 @@ struct SynthOptions {
   double vignette = 0.0;     // Brightness loss in the corners (0..0.8); written as vignette.png.
   double blur_sigma = 0.0;   // Gaussian optical blur, pixels.
   bool depth = false;        // Also write per-frame depth maps.
+  std::string defects;       // Bad frames to inject (defects.h), e.g. "black:20-24,corrupt:30".
 
   void Validate() const;  // Throws InputError naming the option.
 };

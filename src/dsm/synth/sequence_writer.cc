@@ -9,6 +9,7 @@
 #include "dsm/io/folder_dataset.h"
 #include "dsm/io/image_io.h"
 #include "dsm/io/trajectory_io.h"
+#include "dsm/synth/defects.h"
 #include "dsm/synth/renderer.h"
 #include "dsm/util/check.h"
 
@@ -39,6 +40,7 @@ WriteSummary WriteSequence(const SynthSequence& seq, const SynthOptions& options
     fs::remove(out / "vignette.png", ec);
   }
 
+  const std::vector<Defect> defects = ParseDefects(options.defects);
   WriteSummary summary;
   std::vector<FrameRecord> frames(seq.size());
   std::vector<double> render_ms(seq.size(), 0.0);
@@ -59,7 +61,10 @@ WriteSummary WriteSequence(const SynthSequence& seq, const SynthOptions& options
       formation.vignette = vignette.empty() ? nullptr : &vignette;
       formation.noise_seed = options.seed * 7919u + static_cast<uint32_t>(i);
       const std::string name = FolderImageName(i);
-      WriteGray8(out / "images" / name, FormImage(albedo, seq.photometry[i], formation));
+      Image<uint8_t> image = FormImage(albedo, seq.photometry[i], formation);
+      ApplyImageDefects(defects, static_cast<int>(i), options.seed, &image);
+      WriteGray8(out / "images" / name, image);
+      ApplyFileDefects(defects, static_cast<int>(i), out / "images" / name);
       if (options.depth) WriteFloatTiff(out / "depth" / (name.substr(0, name.size() - 4) + ".tiff"), depth);
       frames[i] = {seq.t_ns[i], name, seq.photometry[i].exposure_ms};
     });
