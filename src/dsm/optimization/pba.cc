@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "dsm/optimization/normal_equations.h"
+#include "dsm/optimization/pba_selection.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -81,83 +82,19 @@ class Problem {
   Problem(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const std::vector<int>& held,
           const PbaOptions& options)
       : map_(map), camera_(camera), options_(options) {
-    std::vector<int> index(map->NumKeyframes(), -1);
-    std::vector<bool> is_active(map->NumKeyframes(), false), is_held(map->NumKeyframes(), false);
-    for (int id : held) is_held[id] = true;
-    for (int id : active) {
-      is_active[id] = true;
-      if (index[id] >= 0) continue;
-      index[id] = static_cast<int>(cams_.size());
-      cams_.push_back(id);
-      fixed_.push_back(id == 0 || is_held[id]);
-    }
-    const size_t num_active = cams_.size();
-    // The observations that may enter the problem, per point of the active keyframes: f(host
-    // index, point id, observations). A point of a held keyframe: its observations in keyframes
-    // outside the window join two fixed poses and constrain only its depth; the newest few suffice.
-    const auto for_each_point = [&](const auto& f) {
-      std::vector<const Observation*> kept;
-      for (size_t c = 0; c < num_active; ++c) {
-        for (int pid : map->keyframe(cams_[c]).points) {
-          const Point& p = map->point(pid);
-          if (p.removed) continue;
-          int skip = 0;
-          const int cap = is_held[cams_[c]] ? options.max_outside_observations : options.outside_observations_per_point;
-          if (is_held[cams_[c]] || cap > 0) {
-            for (const Observation& o : p.observations) skip += !o.outlier && !is_active[o.target];
-            skip -= cap;  // The oldest ones are left out.
-          }
-          kept.clear();
-          for (const Observation& o : p.observations)
-            if (!o.outlier && (is_active[o.target] || skip-- <= 0)) kept.push_back(&o);
-          f(c, pid, kept);
-        }
-      }
-    };
-    // Keyframes outside the window enter fixed, at most `max_outside_keyframes` of them: those
-    // with the most observations (the newer on ties). The rest of the map keeps its observations
-    // but sits this solve out, so the problem does not grow with the map.
-    std::vector<bool> outside_ok(map->NumKeyframes(), true);
-    if (options.max_outside_keyframes > 0) {
-      std::vector<int> count(map->NumKeyframes(), 0);
-      for_each_point([&](size_t, int, const std::vector<const Observation*>& obs) {
-        for (const Observation* o : obs) count[o->target] += !is_active[o->target];
-      });
-      std::vector<int> outside;
-      for (int k = 0; k < map->NumKeyframes(); ++k)
-        if (count[k] > 0) outside.push_back(k);
-      std::stable_sort(outside.begin(), outside.end(),
-                       [&](int a, int b) { return count[a] != count[b] ? count[a] > count[b] : a > b; });
-      for (size_t i = options.max_outside_keyframes; i < outside.size(); ++i) outside_ok[outside[i]] = false;
-    }
-    for_each_point([&](size_t c, int pid, const std::vector<const Observation*>& obs) {
+    PbaSelection selection = SelectPbaProblem(*map, active, held, options);
+    cams_ = std::move(selection.cams);
+    fixed_ = std::move(selection.fixed);
+    num_obs_ = selection.num_observations;
+    points_.reserve(selection.points.size());
+    for (const PbaSelection::PointObservations& po : selection.points) {
       PointState ps;
-      ps.id = pid;
-      ps.host = static_cast<int>(c);
-      for (const Observation* o : obs) {
-        if (!outside_ok[o->target]) continue;
-        if (index[o->target] < 0) {  // Observed but not active: in the problem, fixed.
-          index[o->target] = static_cast<int>(cams_.size());
-          cams_.push_back(o->target);
-          fixed_.push_back(true);
-        }
-        ps.obs.push_back({index[o->target]});
-      }
-      if (!ps.obs.empty()) {
-        num_obs_ += static_cast<int>(ps.obs.size());
-        points_.push_back(std::move(ps));
-      }
-    });
-    map->LoadPyramids(cams_);
-    // A camera tied to the rest by few observations is nearly free (its motion barely changes
-    // the energy): it stays fixed in this solve instead of taking a wild step.
-    std::vector<int> links(cams_.size(), 0);
-    for (const PointState& ps : points_) {
-      links[ps.host] += static_cast<int>(ps.obs.size());
-      for (const ObsState& o : ps.obs) ++links[o.target];
+      ps.id = po.id;
+      ps.host = po.host;
+      for (int t : po.targets) ps.obs.push_back({t});
+      points_.push_back(std::move(ps));
     }
-    for (size_t c = 0; c < cams_.size(); ++c)
-      if (links[c] < options.min_camera_observations) fixed_[c] = true;
+    map->LoadPyramids(cams_);
     models_.resize(cams_.size());
     for (size_t c = 0; c < cams_.size(); ++c) models_[c] = map->keyframe(cams_[c]).error_model;
     IndexPairs();

@@ -8,7 +8,8 @@
 // Gauge: keyframe 0 (the oldest of the map) never moves; keyframes observed by active points but
 // not active themselves are in the problem and fixed (at most `max_outside_keyframes` of them,
 // the most observed); so is an active keyframe in fewer than
-// `min_camera_observations` observations (hosted or observed), which the data barely constrain.
+// `min_camera_observations` observations (hosted or observed), which the data barely constrain
+// (pba_selection.h chooses the cameras, points and observations).
 // The error model of every keyframe is refitted at the start of each level and after the last one
 // (stored in the keyframe). Its scale is bounded by `max_sigma_ratio` times the median scale of the
 // problem's keyframes: image noise and the change of appearance between views are shared by the
