@@ -281,12 +281,6 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
   }
 }
 
-}  // namespace
-}  // namespace dsm
-
-namespace dsm {
-namespace {
-
 nlohmann::json ReadJson(const fs::path& path) {
   std::ifstream in(path);
   return nlohmann::json::parse(in);

@@ -9,16 +9,11 @@
 
 namespace dsm {
 
-Image<float> ReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i) {
-  const Image<uint8_t> raw = dataset.LoadImage(i);
-  const Image<float> irradiance = dataset.photometric ? dataset.photometric->ToIrradiance(raw) : ToFloat(raw);
-  return undistorter.Apply(irradiance);
-}
-
 FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i) {
   FrameOrError out;
   try {
-    out.image = ReadFrame(dataset, undistorter, i);
+    const Image<uint8_t> raw = dataset.LoadImage(i);
+    out.image = undistorter.Apply(dataset.photometric ? dataset.photometric->ToIrradiance(raw) : ToFloat(raw));
   } catch (const InputError& e) {
     out.error = e.what();
   }

@@ -23,10 +23,8 @@
 
 namespace dsm {
 
-// Frame i of `dataset`, ready for System::Process.
-Image<float> ReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i);
-
-// Frame i, or the InputError's message (naming the file) when the frame cannot be used.
+// Frame i of `dataset`, ready for System::Process (decoded, photometrically corrected,
+// undistorted), or the InputError's message (naming the file) when the frame cannot be used.
 struct FrameOrError {
   Image<float> image;
   std::string error;  // Empty: `image` is the frame.

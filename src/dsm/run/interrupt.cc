@@ -23,6 +23,4 @@ void CatchInterrupts() {
 
 int InterruptSignal() { return g_signal; }
 
-void ClearInterrupt() { g_signal = 0; }
-
 }  // namespace dsm

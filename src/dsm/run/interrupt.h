@@ -10,7 +10,5 @@ namespace dsm {
 void CatchInterrupts();
 // The signal that asked to stop (SIGINT, SIGTERM), or 0.
 int InterruptSignal();
-// Forgets a caught signal (tests; a new run).
-void ClearInterrupt();
 
 }  // namespace dsm

@@ -99,13 +99,11 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   std::vector<double> latency_ms;  // Frame release (free, sequential: the reader hands it over) to pose.
   int dropped = 0;
   std::vector<int> skipped;  // Frames whose file could not be used.
-  bool interrupted = false;
+  int interrupt_signal = 0;  // The signal that stopped the run (interrupt.h), or 0.
   int last_frame = options.start - 1;  // The last frame taken (processed or skipped).
   for (int i = options.start; i < end; ++i) {
-    if (InterruptSignal() != 0) {
-      interrupted = true;
-      break;
-    }
+    interrupt_signal = InterruptSignal();
+    if (interrupt_signal != 0) break;
     auto released = std::chrono::steady_clock::now();
     if (options.pace == Pace::kRealtime) {
       // Frames that arrived while tracking was busy: only the newest is kept, as a camera driver
@@ -189,8 +187,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["frames_dropped"] = dropped;
   summary.stats["frames_skipped"] = skipped.size();
   summary.stats["skipped_frames"] = skipped;
-  summary.stats["interrupted"] = interrupted;
-  summary.interrupt_signal = interrupted ? InterruptSignal() : 0;
+  summary.stats["interrupted"] = interrupt_signal != 0;
+  summary.interrupt_signal = interrupt_signal;
   const nlohmann::json latency = TimingStats(latency_ms);
   summary.stats["latency_ms"] = {{"median", latency["median"]}, {"p90", latency["p90"]}, {"max", latency["max"]}};
   summary.stats["keyframe_queue_max"] = s.keyframe_queue_max;
