@@ -152,9 +152,13 @@ TEST(Cli, RunWritesTrajectoriesStatsAndEvaluation) {
   const nlohmann::json stats = nlohmann::json::parse(stats_in);
   for (const char* key : {"frames", "frames_tracked", "keyframes", "map_points", "initialized_at_frame", "wall_s",
                           "points_created", "reobservations", "covisible_keyframes_selected",
-                          "points_created_per_keyframe", "per_keyframe"})
+                          "points_created_per_keyframe", "per_keyframe", "frames_lost", "lost_episodes",
+                          "relocalisations", "maps"})
     EXPECT_TRUE(stats.contains(key)) << key;
   EXPECT_EQ(stats["mode"], "dsm");  // The default.
+  ASSERT_EQ(stats["maps"].size(), 1u);  // One map, in the output folder itself.
+  EXPECT_EQ(stats["maps"][0]["dir"], ".");
+  EXPECT_EQ(stats["maps"][0]["keyframes"], stats["keyframes"]);
   EXPECT_EQ(stats["points_created_per_keyframe"].size(), stats["keyframes"].get<size_t>());
   int created = 0;
   for (const auto& n : stats["points_created_per_keyframe"]) created += n.get<int>();

@@ -1,23 +1,52 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/io/euroc_copy.h"
 
+#include <algorithm>
 #include <fstream>
 
 #include "dsm/io/calibration_io.h"
+#include "dsm/io/image_io.h"
+#include "dsm/synth/defects.h"
 #include "dsm/util/check.h"
 
 namespace dsm::testing {
 
 namespace fs = std::filesystem;
 
-void WriteEurocCopy(const fs::path& src, const fs::path& dst, size_t frames, const GroundTruthConvention& reading) {
+void WriteEurocCopy(const fs::path& src, const fs::path& dst, size_t frames, const GroundTruthConvention& reading,
+                    const std::string& defects) {
   const Dataset d = OpenDataset(src);
   DSM_CHECK(d.format == "euroc" && d.HasGroundTruth(), src.string() + " is no EuRoC dataset with ground truth");
   const fs::path cam0 = dst / "mav0" / "cam0";
   fs::create_directories(cam0);
   fs::create_directories(dst / "mav0" / "state_groundtruth_estimate0");
   fs::copy_file(src / "mav0" / "cam0" / "sensor.yaml", cam0 / "sensor.yaml", fs::copy_options::overwrite_existing);
-  fs::create_directory_symlink(fs::absolute(src / "mav0" / "cam0" / "data"), cam0 / "data");
+  const fs::path data = fs::absolute(src / "mav0" / "cam0" / "data");
+  const std::vector<synth::Defect> spoiled = synth::ParseDefects(defects);
+  if (spoiled.empty()) {
+    fs::create_directory_symlink(data, cam0 / "data");
+  } else {
+    // Every image linked but the spoiled ones (a damaged file is a copy, never the original).
+    fs::create_directories(cam0 / "data");
+    for (size_t i = 0; i < std::min(frames, d.size()); ++i) {
+      const fs::path to = cam0 / "data" / d.frames[i].image;
+      const auto hit = [&](bool file) {
+        return std::any_of(spoiled.begin(), spoiled.end(), [&](const synth::Defect& s) {
+          return synth::IsFileDefect(s.kind) == file && static_cast<int>(i) >= s.first && static_cast<int>(i) <= s.last;
+        });
+      };
+      if (hit(false)) {
+        Image<uint8_t> image = d.LoadImage(i);
+        synth::ApplyImageDefects(spoiled, static_cast<int>(i), 1, &image);
+        WriteGray8(to, image);
+      } else if (hit(true)) {
+        fs::copy_file(data / d.frames[i].image, to);
+        synth::ApplyFileDefects(spoiled, static_cast<int>(i), to);
+      } else {
+        fs::create_symlink(data / d.frames[i].image, to);
+      }
+    }
+  }
   std::ofstream csv(cam0 / "data.csv");
   csv << "#timestamp [ns],filename\n";
   for (size_t i = 0; i < std::min(frames, d.size()); ++i) csv << d.frames[i].t_ns << "," << d.frames[i].image << "\n";

@@ -62,6 +62,16 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["keyframe.weight_visibility"] = Set(&o->keyframe.weight_visibility);
   s["keyframe.weight_brightness"] = Set(&o->keyframe.weight_brightness);
   s["keyframe.residual_growth"] = Set(&o->keyframe.residual_growth);
+  s["quality.min_texture_ratio"] = Set(&o->quality.min_texture_ratio);
+  s["quality.max_residual_ratio"] = Set(&o->quality.max_residual_ratio);
+  s["quality.min_inlier_ratio"] = Set(&o->quality.min_inlier_ratio);
+  s["quality.max_rotation_deg"] = Set(&o->quality.max_rotation_deg);
+  s["quality.max_parallax"] = Set(&o->quality.max_parallax);
+  s["quality.max_speed_ratio"] = Set(&o->quality.max_speed_ratio);
+  s["quality.min_speed"] = Set(&o->quality.min_speed);
+  s["quality.history"] = Set(&o->quality.history);
+  s["relocalisation.candidates"] = Set(&o->relocalisation.candidates);
+  s["relocalisation.max_lost_frames"] = Set(&o->relocalisation.max_lost_frames);
   s["window.temporal_keyframes"] = Set(&o->window.temporal_keyframes);
   s["window.min_visible_ratio"] = Set(&o->window.min_visible_ratio);
   s["window.max_affine_change"] = Set(&o->window.max_affine_change);

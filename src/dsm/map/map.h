@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "dsm/image/pyramid.h"
+#include "dsm/image/signature.h"
 #include "dsm/lie/se3.h"
 #include "dsm/photometric/residual.h"
 #include "dsm/photometric/robust.h"
@@ -47,6 +48,7 @@ struct Point {
       if (o.target == target) return &o;
     return nullptr;
   }
+  const Observation* FindObservation(int target) const { return const_cast<Point*>(this)->FindObservation(target); }
 };
 
 struct Keyframe {
@@ -66,6 +68,7 @@ struct Keyframe {
   int pyramid_levels = 0;
   int pyramid_used = 0;  // Map epoch of its last use.
   ErrorModel error_model;  // Fitted to the residuals of the observations in this keyframe.
+  FrameSignature signature;  // Texture and thumbnail (relocalisation candidates).
   std::vector<int> points; // Ids of the points it hosts.
 
   const ImagePyramid& Pyramid() const {

@@ -47,6 +47,91 @@ void WriteJson(const fs::path& path, const nlohmann::json& j) {
   if (!out) throw InputError(path.string() + ": cannot write file");
 }
 
+// One map of the run: a System from the frame it started on until the run ended or the camera went
+// somewhere the map does not cover (System::NeedsNewMap).
+struct MapRun {
+  fs::path dir;  // Where its trajectories (and evaluation) are written.
+  int first_frame = -1, last_frame = -1;
+  SystemStats stats;
+  int map_points = 0;
+  Trajectory keyframes, frames;
+  std::optional<Trajectory> before_global_ba;
+  std::optional<nlohmann::json> eval;
+};
+
+// Ends a map: waits for its mapping, runs the global BA when asked, writes its trajectories.
+MapRun CloseMap(System& system, const fs::path& dir, int first_frame, int last_frame, bool global_ba) {
+  system.Finish();
+  MapRun m;
+  m.dir = dir;
+  m.first_frame = first_frame;
+  m.last_frame = last_frame;
+  if (global_ba) {
+    m.before_global_ba = system.KeyframeTrajectory();
+    system.RunGlobalBundleAdjustment();
+  }
+  m.keyframes = system.KeyframeTrajectory();
+  m.frames = system.FrameTrajectory();
+  m.stats = system.stats();
+  m.map_points = system.NumMapPoints();
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
+  WriteTumTrajectory(dir / "keyframes.tum", m.keyframes);
+  WriteTumTrajectory(dir / "frames.tum", m.frames);
+  return m;
+}
+
+// Sim(3) evaluation of a map's trajectories (with at least three poses each), written to its
+// eval.json; appends ", keyframe ATE ..." to `line`.
+void EvaluateMap(const Dataset& dataset, MapRun* m, std::string* line) {
+  if (!dataset.HasGroundTruth() || m->keyframes.size() < 3 || m->frames.size() < 3) return;
+  EvalOptions eval;
+  eval.align = Alignment::kSim3;
+  const EvalResult kf = Evaluate(dataset.ground_truth, m->keyframes, eval);
+  const EvalResult fr = Evaluate(dataset.ground_truth, m->frames, eval);
+  m->eval = nlohmann::json{{"keyframes", ToJson(kf)}, {"frames", ToJson(fr)}};
+  char text[256];
+  std::snprintf(text, sizeof(text), ", keyframe ATE %.2f mm, frame ATE %.2f mm (Sim(3))", 1000.0 * kf.ape.rmse,
+                1000.0 * fr.ape.rmse);
+  *line += text;
+  if (m->before_global_ba) {
+    const EvalResult b = Evaluate(dataset.ground_truth, *m->before_global_ba, eval);
+    (*m->eval)["keyframes_before_global_ba"] = ToJson(b);
+    std::snprintf(text, sizeof(text), ", before global BA %.2f mm", 1000.0 * b.ape.rmse);
+    *line += text;
+  }
+  WriteJson(m->dir / "eval.json", *m->eval);
+}
+
+// The stats of all maps as one: counts summed, per-frame and per-keyframe lists concatenated.
+SystemStats Combined(const std::vector<MapRun>& maps) {
+  SystemStats all = maps.front().stats;
+  const auto append = [](auto* to, const auto& from) { to->insert(to->end(), from.begin(), from.end()); };
+  for (size_t i = 1; i < maps.size(); ++i) {
+    const SystemStats& s = maps[i].stats;
+    all.frames += s.frames;
+    all.frames_tracked += s.frames_tracked;
+    all.keyframes += s.keyframes;
+    all.frames_lost += s.frames_lost;
+    all.relocalisations += s.relocalisations;
+    append(&all.lost_episodes, s.lost_episodes);
+    append(&all.tracking_ms, s.tracking_ms);
+    append(&all.tracing_ms, s.tracing_ms);
+    append(&all.mapping_ms, s.mapping_ms);
+    append(&all.pba_ms, s.pba_ms);
+    all.points_created += s.points_created;
+    all.reobservations += s.reobservations;
+    all.covisible_keyframes_selected += s.covisible_keyframes_selected;
+    append(&all.per_keyframe, s.per_keyframe);
+    all.keyframe_queue_max = std::max(all.keyframe_queue_max, s.keyframe_queue_max);
+    all.keyframe_waits += s.keyframe_waits;
+    all.pyramids_rebuilt += s.pyramids_rebuilt;
+    all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);
+  }
+  return all;
+}
+
 }  // namespace
 
 std::string PaceName(Pace pace) {
@@ -84,7 +169,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   system_options.threaded = options.pace != Pace::kSequential;
   system_options.wait_for_mapping = options.pace != Pace::kRealtime;
   const Undistorter undistorter(dataset.camera, {dataset.undistort_mode, 1 << (options.system.pyramid_levels - 1)});
-  System system(undistorter.output(), system_options);
+  auto system = std::make_unique<System>(undistorter.output(), system_options);
+  std::vector<MapRun> maps;  // The maps closed so far.
+  int map_first_frame = options.start;
+  const auto map_dir = [&](size_t index) { return index == 0 ? out_dir : out_dir / ("map_" + std::to_string(index)); };
   std::optional<DebugWriter> debug;
   if (!options.debug_dir.empty()) debug.emplace(options.debug_dir, dataset, undistorter);
   const auto process0 = std::chrono::steady_clock::now();
@@ -124,15 +212,24 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       continue;
     }
     if (reader) released = std::chrono::steady_clock::now();
-    const FrameReport r = system.Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms);
+    const FrameReport r = system->Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms);
     latency_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - released).count());
-    if (debug && r.keyframe) debug->AddKeyframes(system);
-    if (!options.quiet && (r.keyframe || r.status == TrackingStatus::kLost)) {
-      std::printf("frame %5d  %-12s%s%s\n", i, TrackingStatusName(r.status).c_str(), r.keyframe ? " keyframe" : "",
+    if (debug && r.keyframe && maps.empty()) debug->AddKeyframes(*system);  // The first map's.
+    if (!options.quiet && (r.keyframe || r.relocalised || r.status == TrackingStatus::kLost)) {
+      std::printf("frame %5d  %-12s%s%s%s\n", i, TrackingStatusName(r.status).c_str(),
+                  r.relocalised ? " relocalised" : "", r.keyframe ? " keyframe" : "",
                   r.reason.empty() ? "" : ("  (" + r.reason + ")").c_str());
     }
+    if (system->NeedsNewMap() && i + 1 < end) {
+      // Relocalisation keeps failing: the camera is somewhere new. This map ends here and the
+      // next frames start another (merging maps is not done).
+      maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, i, options.global_ba));
+      if (!options.quiet) std::printf("frame %5d  new map %zu (relocalisation kept failing)\n", i, maps.size());
+      system = std::make_unique<System>(undistorter.output(), system_options);
+      map_first_frame = i + 1;
+    }
   }
-  system.Finish();
+  system->Finish();
 
   // Speed against the recording: the frames' time span (one frame interval per frame) over the
   // time spent reading and processing them (mapping included); > 1 is faster than real time.
@@ -143,17 +240,11 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                           processed / (processed - 1)
                     : 0.0;
   const double fps = processed / process_s, realtime_factor = recording_s / process_s;
-  std::optional<Trajectory> before_global_ba;
-  if (options.global_ba) {
-    before_global_ba = system.KeyframeTrajectory();
-    system.RunGlobalBundleAdjustment();
-  }
-  const Trajectory keyframes = system.KeyframeTrajectory();
-  const Trajectory frames = system.FrameTrajectory();
-  WriteTumTrajectory(out_dir / "keyframes.tum", keyframes);
-  WriteTumTrajectory(out_dir / "frames.tum", frames);
-
-  const SystemStats& s = system.stats();
+  maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, last_frame, options.global_ba));
+  system.reset();
+  const SystemStats s = Combined(maps);
+  int map_points = 0;
+  for (const MapRun& m : maps) map_points += m.map_points;
   RunSummary summary;
   nlohmann::json per_keyframe = nlohmann::json::array(), created = nlohmann::json::array();
   for (const SystemStats::KeyframeLog& k : s.per_keyframe) {
@@ -168,8 +259,11 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"mode", options.system.mode == MapMode::kSlidingWindow ? "sw" : "dsm"},
       {"frames", s.frames},
       {"frames_tracked", s.frames_tracked},
+      {"frames_lost", s.frames_lost},
+      {"lost_episodes", s.lost_episodes},
+      {"relocalisations", s.relocalisations},
       {"keyframes", s.keyframes},
-      {"map_points", system.NumMapPoints()},
+      {"map_points", map_points},
       {"initialized_at_frame", s.initialized_at_frame},
       {"initialization", s.initialization},
       {"image_noise_sigma", s.image_noise_sigma},
@@ -203,29 +297,38 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   }
   char line[512];
   std::snprintf(line, sizeof(line), "%d/%d frames tracked, %d keyframes, %d points, initialised at frame %d, %.1f fps",
-                s.frames_tracked, s.frames, s.keyframes, system.NumMapPoints(), s.initialized_at_frame, fps);
+                s.frames_tracked, s.frames, s.keyframes, map_points, s.initialized_at_frame, fps);
   summary.line = line;
+
   if (recording_s > 0.0) {
     std::snprintf(line, sizeof(line), " (%.2fx real time)", realtime_factor);
     summary.line += line;
   }
-  if (dataset.HasGroundTruth() && keyframes.size() >= 3 && frames.size() >= 3) {
-    EvalOptions eval;
-    eval.align = Alignment::kSim3;
-    const EvalResult kf = Evaluate(dataset.ground_truth, keyframes, eval);
-    const EvalResult fr = Evaluate(dataset.ground_truth, frames, eval);
-    summary.eval = nlohmann::json{{"keyframes", ToJson(kf)}, {"frames", ToJson(fr)}};
-    std::snprintf(line, sizeof(line), ", keyframe ATE %.2f mm, frame ATE %.2f mm (Sim(3))", 1000.0 * kf.ape.rmse,
-                  1000.0 * fr.ape.rmse);
+  if (s.frames_lost > 0) {
+    std::snprintf(line, sizeof(line), ", %d lost (%zu episodes, %d relocalised)", s.frames_lost, s.lost_episodes.size(),
+                  s.relocalisations);
     summary.line += line;
-    if (before_global_ba) {
-      const EvalResult b = Evaluate(dataset.ground_truth, *before_global_ba, eval);
-      (*summary.eval)["keyframes_before_global_ba"] = ToJson(b);
-      std::snprintf(line, sizeof(line), ", before global BA %.2f mm", 1000.0 * b.ape.rmse);
-      summary.line += line;
-    }
-    WriteJson(out_dir / "eval.json", *summary.eval);
   }
+  if (maps.size() > 1) summary.line += ", " + std::to_string(maps.size()) + " maps";
+  nlohmann::json map_list = nlohmann::json::array();
+  for (size_t k = 0; k < maps.size(); ++k) {
+    MapRun& m = maps[k];
+    std::string map_line;
+    EvaluateMap(dataset, &m, &map_line);
+    if (k == 0) {
+      summary.eval = m.eval;
+      summary.line += map_line;
+    } else if (!map_line.empty()) {
+      summary.line += "; map " + std::to_string(k) + map_line;
+    }
+    nlohmann::json j = {{"dir", fs::relative(m.dir, out_dir).string()}, {"first_frame", m.first_frame},
+                        {"last_frame", m.last_frame}, {"frames_tracked", m.stats.frames_tracked},
+                        {"keyframes", m.stats.keyframes}, {"map_points", m.map_points},
+                        {"initialized_at_frame", m.stats.initialized_at_frame}};
+    if (m.eval) j["keyframe_ate_m"] = (*m.eval)["keyframes"]["ape"]["rmse"];
+    map_list.push_back(j);
+  }
+  summary.stats["maps"] = map_list;
   summary.stats["peak_rss_mb"] = PeakRssMb();
   summary.stats["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   WriteJson(out_dir / "stats.json", summary.stats);

@@ -26,10 +26,6 @@ constexpr KindName kKinds[] = {{DefectKind::kBlack, "black"},     {DefectKind::k
                                {DefectKind::kCorrupt, "corrupt"}, {DefectKind::kTruncated, "truncated"},
                                {DefectKind::kEmpty, "empty"}};
 
-bool IsFileDefect(DefectKind k) {
-  return k == DefectKind::kCorrupt || k == DefectKind::kTruncated || k == DefectKind::kEmpty;
-}
-
 const Defect* Find(const std::vector<Defect>& defects, int frame, bool file) {
   for (const Defect& d : defects)
     if (frame >= d.first && frame <= d.last && IsFileDefect(d.kind) == file) return &d;
@@ -43,6 +39,10 @@ int ParseFrame(const std::string& text, const std::string& item) {
 }
 
 }  // namespace
+
+bool IsFileDefect(DefectKind k) {
+  return k == DefectKind::kCorrupt || k == DefectKind::kTruncated || k == DefectKind::kEmpty;
+}
 
 std::vector<Defect> ParseDefects(const std::string& spec) {
   std::vector<Defect> out;

@@ -26,6 +26,8 @@ struct Defect {
   int first = 0, last = 0;
 };
 
+bool IsFileDefect(DefectKind kind);  // corrupt, truncated, empty
+
 // Parses a spec; throws InputError naming the item that is wrong. Empty spec: no defects.
 std::vector<Defect> ParseDefects(const std::string& spec);
 

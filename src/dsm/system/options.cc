@@ -5,6 +5,11 @@
 
 namespace dsm {
 
+void RelocalisationOptions::Validate() const {
+  if (candidates < 0 || candidates > 50) throw InputError("relocalisation.candidates must be within 0..50");
+  if (max_lost_frames < 0) throw InputError("relocalisation.max_lost_frames must be non-negative (0: never a new map)");
+}
+
 void SystemOptions::Validate() const {
   if (pyramid_levels < 1 || pyramid_levels > 6) throw InputError("pyramid_levels must be within 1..6");
   if (max_initialization_frames < 5) throw InputError("max_initialization_frames must be at least 5");
@@ -20,6 +25,8 @@ void SystemOptions::Validate() const {
   candidates.Validate();
   activation.Validate();
   keyframe.Validate();
+  quality.Validate();
+  relocalisation.Validate();
   window.Validate();
   occlusion.Validate();
   pba.Validate();

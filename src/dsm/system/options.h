@@ -13,12 +13,24 @@
 #include "dsm/optimization/pba.h"
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/initializer.h"
+#include "dsm/tracking/tracking_quality.h"
 
 namespace dsm {
 
 enum class MapMode {
   kSlidingWindow,  // DSM-SW: a temporal window of N_t + N_c keyframes (DSM's size), no covisible part.
   kFull,           // DSM: temporal + covisible keyframes (window.covisible_keyframes).
+};
+
+// What the system does once a frame is lost (tracking_quality.h): every following frame is tried
+// against the map's keyframes (the last reference first, then the `candidates` most similar by
+// thumbnail); after `max_lost_frames` frames in a row that had texture enough to be tried and
+// still failed, the camera is taken to be somewhere new and a new map is started (0: never).
+struct RelocalisationOptions {
+  int candidates = 3;
+  int max_lost_frames = 30;
+
+  void Validate() const;
 };
 
 struct SystemOptions {
@@ -48,6 +60,8 @@ struct SystemOptions {
   EpipolarOptions epipolar;
   ActivationOptions activation;
   KeyframeOptions keyframe;
+  QualityOptions quality;
+  RelocalisationOptions relocalisation;
   WindowOptions window;
   OcclusionOptions occlusion;  // Observations of hidden points are not created.
   PbaOptions pba;

@@ -9,7 +9,9 @@
 #include <tbb/parallel_for.h>
 
 #include "dsm/image/noise.h"
+#include "dsm/image/signature.h"
 #include "dsm/system/mapping_thread.h"
+#include "dsm/system/system_internal.h"
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/initializer.h"
 #include "dsm/util/check.h"
@@ -18,22 +20,12 @@ namespace dsm {
 
 namespace {
 
-double MsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
+using internal::FrameBrightness;
+using internal::MsSince;
+using internal::Scale;
 
-// T^s on the geodesic from the identity.
-SE3d Scale(const SE3d& T, double s) { return SE3d::Exp(s * T.Log()); }
-
-// The absolute brightness of a frame tracked against `ref` with I_f = e^alpha I_ref + beta: from
-//   I_ref - b_ref = e^(a_ref - a_f) tau_ref / tau_f (I_f - b_f)
-// follow a_f = a_ref + alpha - log(tau_f / tau_ref) and b_f = beta + e^alpha b_ref.
-AffineBrightness FrameBrightness(const AffineBrightness& ref, double ref_exposure, double alpha, double beta,
-                                 double exposure) {
-  return {ref.a + alpha - std::log(exposure / ref_exposure), beta + std::exp(alpha) * ref.b};
-}
 AffineBrightness FrameBrightness(const Keyframe& ref, double alpha, double beta, double exposure) {
-  return FrameBrightness(ref.affine, ref.exposure, alpha, beta, exposure);
+  return internal::FrameBrightness(ref.affine, ref.exposure, alpha, beta, exposure);
 }
 
 }  // namespace
@@ -48,7 +40,10 @@ std::string TrackingStatusName(TrackingStatus status) {
 }
 
 System::System(const PinholeCamera& camera, const SystemOptions& options)
-    : camera_(camera), options_(options), min_activation_distance_px_(options.activation.initial_min_distance_px) {
+    : camera_(camera),
+      options_(options),
+      min_activation_distance_px_(options.activation.initial_min_distance_px),
+      quality_(options.quality) {
   options_.Validate();
   if (options_.mode == MapMode::kSlidingWindow) {
     // DSM-SW: the same window size N_w = N_t + N_c, all of it temporal (a sliding window as DSO's).
@@ -88,23 +83,59 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   const Image<float>& image = stats_.smoothing_sigma > 0.0 ? smoothed : input;
   if (!reference_) return Initialize(index, t_ns, image, exposure);
 
-  UpdateReference(want_keyframe_ && options_.wait_for_mapping);
+  // After a relocalisation the reference is an older keyframe: even a live camera waits for the
+  // keyframe made from the confirming frame, or tracking would drift off the old one meanwhile.
+  UpdateReference((want_keyframe_ && options_.wait_for_mapping) || wait_after_relocalisation_);
+  wait_after_relocalisation_ = false;
   const auto t0 = std::chrono::steady_clock::now();
   FrameReport report;
   report.index = index;
   auto pyramid = std::make_shared<const ImagePyramid>(image, options_.pyramid_levels, /*gradients=*/false);
+  // The quality test (tracking_quality.h): the image first, then the alignment. While lost, every
+  // frame with texture enough is tried against the map (Relocalise). A relocalisation is tentative
+  // until the next frame, tracked from it, passes the test as well; otherwise it is withdrawn and
+  // that frame is tried against the map in turn.
+  const FrameSignature signature = ComputeSignature(*pyramid);
+  std::string reason = quality_.CheckImage(signature.texture);
   TrackResult result;
-  last_frame_keyframe_ = -1;
-  if (!TrackFrame(*pyramid, exposure, &result)) {
-    report.status = TrackingStatus::kLost;
-    report.reason = result.reason;
-    report.tracking_ms = MsSince(t0);
-    frames_.push_back({t_ns, -1, SE3d()});
-    return report;
+  if (reason.empty() && !lost_) {
+    result = TrackFrame(*pyramid, exposure);
+    reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(), 1,
+                                    tracker_->MeanIdepth());
+    if (!reason.empty() && tentative_) {
+      WithdrawRelocalisation();
+      reason.clear();
+    }
   }
+  if (reason.empty() && lost_) {
+    Tentative before = SaveTentative(index);
+    report.relocalised = Relocalise(*pyramid, signature, exposure, &result, &reason);
+    if (report.relocalised) tentative_ = std::move(before);
+    if (!report.relocalised) ++failed_relocalisations_;
+  }
+  if (!reason.empty() && tentative_) WithdrawRelocalisation();
+  report.tracking_ms = MsSince(t0);
+  if (!reason.empty()) return LostFrame(std::move(report), t_ns, std::move(reason));
+  const bool confirmed = tentative_ && !report.relocalised;
+  if (confirmed) {
+    tentative_.reset();
+    ++stats_.relocalisations;
+  }
+  lost_ = false;
+  lost_in_a_row_ = failed_relocalisations_ = 0;
+  CommitPose(result, exposure, /*keep_velocity=*/!report.relocalised);
+  if (report.relocalised) {
+    quality_.Restart(result.residual_p50, signature.texture);
+  } else {
+    quality_.Trust(result.residual_p50, signature.texture);
+  }
+  last_frame_keyframe_ = -1;
   report.status = TrackingStatus::kOk;
   ++stats_.frames_tracked;
   frames_.push_back({t_ns, reference_->keyframe, result.frame_from_keyframe});
+  stats_.tracking_ms.push_back(report.tracking_ms);
+  // A tentative pose feeds nothing to the mapping side (and never makes a keyframe).
+  if (report.relocalised) return report;
 
   if (first_rmse_after_keyframe_ == 0.0) first_rmse_after_keyframe_ = result.rmse;
   KeyframeScores scores;
@@ -113,8 +144,6 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   scores.brightness = std::abs(result.alpha - std::log(exposure / reference_->exposure[reference_->keyframe]));
   scores.rmse = result.rmse;
   scores.first_rmse = first_rmse_after_keyframe_;
-  report.tracking_ms = MsSince(t0);
-  stats_.tracking_ms.push_back(report.tracking_ms);
 
   MappingJob job;
   job.index = index;
@@ -140,6 +169,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
       frames_.back() = {t_ns, job.keyframe, SE3d()};
       last_frame_keyframe_ = job.keyframe;
       report.keyframe = true;
+      wait_after_relocalisation_ = confirmed;
     }
   }
   const auto t1 = std::chrono::steady_clock::now();
@@ -172,6 +202,12 @@ void System::RunJob(const MappingJob& job) {
   TraceCandidates(*job.pyramid, job.reference, job.frame_from_reference, job.alpha, job.beta, job.exposure);
   stats_.tracing_ms.push_back(MsSince(t0));
   if (job.keyframe < 0) return;
+  // Tracking resumed against an older keyframe (relocalisation): it rejoins the temporal window,
+  // with its points, so that the new keyframe is mapped against the part of the map it sees.
+  if (std::find(window_.begin(), window_.end(), job.reference) == window_.end() &&
+      std::find(covisible_.begin(), covisible_.end(), job.reference) == covisible_.end()) {
+    window_.push_back(job.reference);
+  }
   const Keyframe& ref = map_.keyframe(job.reference);
   CreateKeyframe(job.index, job.t_ns, job.pyramid, job.exposure, job.frame_from_reference * ref.cam_from_world,
                  FrameBrightness(ref, job.alpha, job.beta, job.exposure));
@@ -202,11 +238,9 @@ void System::UpdateReference(bool wait) {
     // Both keyframes as the new snapshot has them (the bundle adjustment moved both since).
     const int o = reference_->keyframe, n = next->keyframe;
     last_frame_from_reference_ = last_frame_from_reference_ * next->cam_from_world[o] * next->cam_from_world[n].Inverse();
-    // Absolute brightness of the last frame, then relative to the new reference (FrameBrightness
-    // inverted: alpha = a_f - a_ref + log(tau_f / tau_ref), beta = b_f - e^alpha b_ref).
+    // Absolute brightness of the last frame, then relative to the new reference.
     const AffineBrightness f = FrameBrightness(next->affine[o], next->exposure[o], last_alpha_, last_beta_, last_exposure_);
-    last_alpha_ = f.a - next->affine[n].a + std::log(last_exposure_ / next->exposure[n]);
-    last_beta_ = f.b - std::exp(last_alpha_) * next->affine[n].b;
+    internal::RelativeBrightness(f, last_exposure_, next->affine[n], next->exposure[n], &last_alpha_, &last_beta_);
   } else {
     // The new reference is the keyframe made from the last tracked frame.
     last_frame_from_reference_ = SE3d();
@@ -384,7 +418,7 @@ void System::MergeInitTracked() {
   init_tracked_.clear();
 }
 
-bool System::TrackFrame(const ImagePyramid& pyramid, double exposure, TrackResult* result) {
+TrackResult System::TrackFrame(const ImagePyramid& pyramid, double exposure) const {
   // Relative brightness guess: the last one, corrected for the change of exposure time.
   const double alpha_guess = last_alpha_ + std::log(exposure / last_exposure_);
   // Guesses of frame_from_reference: constant velocity first, then alternatives.
@@ -411,14 +445,79 @@ bool System::TrackFrame(const ImagePyramid& pyramid, double exposure, TrackResul
     // Other guesses only when this one failed or left a much larger residual than usual.
     if (best.ok && (first_rmse_after_keyframe_ == 0.0 || best.rmse < 2.0 * first_rmse_after_keyframe_)) break;
   }
-  *result = best;
-  if (!best.ok) return false;
-  velocity_ = best.frame_from_keyframe * last.Inverse();
-  last_frame_from_reference_ = best.frame_from_keyframe;
-  last_alpha_ = best.alpha;
-  last_beta_ = best.beta;
+  return best;
+}
+
+void System::CommitPose(const TrackResult& result, double exposure, bool keep_velocity) {
+  velocity_ = keep_velocity ? result.frame_from_keyframe * last_frame_from_reference_.Inverse() : SE3d();
+  last_frame_from_reference_ = result.frame_from_keyframe;
+  last_alpha_ = result.alpha;
+  last_beta_ = result.beta;
   last_exposure_ = exposure;
-  return true;
+}
+
+FrameReport System::LostFrame(FrameReport report, int64_t t_ns, std::string reason) {
+  report.status = TrackingStatus::kLost;
+  report.reason = std::move(reason);
+  frames_.push_back({t_ns, -1, SE3d()});
+  ++stats_.frames_lost;
+  ++lost_in_a_row_;
+  if (!lost_) {
+    lost_ = true;
+    stats_.lost_episodes.push_back({report.index, report.index});
+  }
+  stats_.lost_episodes.back().second = report.index;
+  return report;
+}
+
+System::Tentative System::SaveTentative(int index) const {
+  Tentative t;
+  t.index = index;
+  t.record = frames_.size();
+  t.reference = reference_;
+  t.last_frame_from_reference = last_frame_from_reference_;
+  t.velocity = velocity_;
+  t.alpha = last_alpha_;
+  t.beta = last_beta_;
+  t.exposure = last_exposure_;
+  t.first_rmse_after_keyframe = first_rmse_after_keyframe_;
+  t.quality = quality_;
+  t.lost_in_a_row = lost_in_a_row_;
+  t.failed_relocalisations = failed_relocalisations_;
+  return t;
+}
+
+void System::WithdrawRelocalisation() {
+  Tentative& t = *tentative_;
+  // The relocalised frame becomes a lost one of the same episode.
+  frames_[t.record].reference = -1;
+  --stats_.frames_tracked;
+  ++stats_.frames_lost;
+  stats_.lost_episodes.back().second = t.index;
+  lost_in_a_row_ = t.lost_in_a_row + 1;
+  failed_relocalisations_ = t.failed_relocalisations + 1;
+  if (reference_ != t.reference) {
+    // The mapping side is idle: it was handed nothing since the camera was lost.
+    {
+      std::lock_guard<std::mutex> lock(reference_mutex_);
+      published_ = t.reference;
+    }
+    reference_ = t.reference;
+    tracker_->SetReference(reference_->pyramid.get(), camera_, reference_->points);
+  }
+  last_frame_from_reference_ = t.last_frame_from_reference;
+  velocity_ = t.velocity;
+  last_alpha_ = t.alpha;
+  last_beta_ = t.beta;
+  last_exposure_ = t.exposure;
+  first_rmse_after_keyframe_ = t.first_rmse_after_keyframe;
+  quality_ = t.quality;
+  lost_ = true;
+  tentative_.reset();
+}
+
+bool System::NeedsNewMap() const {
+  return options_.relocalisation.max_lost_frames > 0 && failed_relocalisations_ >= options_.relocalisation.max_lost_frames;
 }
 
 void System::TraceCandidates(const ImagePyramid& pyramid, int reference, const SE3d& frame_from_reference,

@@ -35,7 +35,9 @@
 #include "dsm/image/image.h"
 #include "dsm/map/map.h"
 #include "dsm/system/options.h"
+#include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
+#include "dsm/tracking/tracking_quality.h"
 
 namespace dsm {
 
@@ -47,12 +49,17 @@ struct FrameReport {
   TrackingStatus status = TrackingStatus::kInitializing;
   std::string reason;       // For kInitializing / kLost.
   bool keyframe = false;
+  bool relocalised = false;  // Tracking regained after lost frames (kOk).
   double tracking_ms = 0.0;  // Pyramid and alignment.
   double mapping_ms = 0.0;   // Sequential: its candidate tracing, and its mapping when it became a keyframe.
 };
 
 struct SystemStats {
   int frames = 0, frames_tracked = 0, keyframes = 0;
+  // Frames that failed the quality test after the map started (tracking_quality.h), the episodes
+  // of consecutive lost frames (first and last frame index) and how many ended by relocalisation.
+  int frames_lost = 0, relocalisations = 0;
+  std::vector<std::pair<int, int>> lost_episodes;
   int initialized_at_frame = -1;
   std::string initialization;  // How the map started: "two-view" or "planar" (initializer.h).
   double image_noise_sigma = -1.0;  // Noise level of the first frame (image/noise.h), grey levels.
@@ -105,6 +112,9 @@ class System {
   const SystemStats& stats() const { return stats_; }
   int NumMapPoints() const;
   const Map& map() const { return map_; }
+  // True once relocalisation failed options.relocalisation.max_lost_frames times in a row: the
+  // camera is somewhere the map does not cover, and the caller starts a new map (a new System).
+  bool NeedsNewMap() const;
 
   // Bundle adjustment of every keyframe and point of the map (keyframe 0 fixed), once, at the end.
   void RunGlobalBundleAdjustment();
@@ -162,7 +172,34 @@ class System {
   void ChooseSmoothing(const Image<float>& first);
   FrameReport Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure);
   void StartMap(const struct InitResult& init);
-  bool TrackFrame(const ImagePyramid& pyramid, double exposure, struct TrackResult* result);
+  // The best alignment of the frame against the reference from the motion guesses; commits nothing.
+  TrackResult TrackFrame(const ImagePyramid& pyramid, double exposure) const;
+  // The frame's pose and brightness relative to the reference become the last trusted ones.
+  void CommitPose(const TrackResult& result, double exposure, bool keep_velocity);
+  // A lost frame: counted, its episode opened or extended.
+  FrameReport LostFrame(FrameReport report, int64_t t_ns, std::string reason);
+  // While lost (system_relocalisation.cc): aligns the frame with the reference and the keyframes most
+  // like it, from the last trusted pose; on success the keyframe it passed the quality test against
+  // becomes the reference and `result` holds the frame's pose relative to it. `reason`: why not.
+  bool Relocalise(const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
+                  TrackResult* result, std::string* reason);
+  // The tracking side's state before a relocalisation of frame `index`, restored when the next
+  // frame does not confirm it.
+  struct Tentative {
+    int index = -1;
+    size_t record = 0;  // The relocalised frame's entry in frames_.
+    std::shared_ptr<const TrackingReference> reference;
+    SE3d last_frame_from_reference, velocity;
+    double alpha = 0.0, beta = 0.0, exposure = 1.0, first_rmse_after_keyframe = 0.0;
+    TrackingQuality quality{QualityOptions{}};
+    int lost_in_a_row = 0, failed_relocalisations = 0;
+  };
+  Tentative SaveTentative(int index) const;
+  void WithdrawRelocalisation();
+  // ORB features of keyframe kf (keyframe_features_, computed on first use).
+  const OrbFeatures& KeyframeFeatures(int kf);
+  // Points observed in keyframe kf (hosted, or an inlier observation), for tracking against it.
+  std::vector<ReferencePoint> PointsSeenIn(int kf);
   // Tracking side: takes the newest published reference (waiting for the pending keyframe first
   // when `wait`), and moves the last frame's pose and brightness onto it.
   void UpdateReference(bool wait);
@@ -188,8 +225,10 @@ class System {
                        double beta, double exposure);
   void CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                       const SE3d& cam_from_world, const AffineBrightness& affine);
-  // Hands keyframe kf with `points` to the tracking side (it takes them in UpdateReference).
-  void PublishReference(int kf, std::vector<ReferencePoint> points);
+  // Hands keyframe kf with `points` to the tracking side (it takes them in UpdateReference);
+  // `pyramid`: kf's, when the map holds none (it was released).
+  void PublishReference(int kf, std::vector<ReferencePoint> points,
+                        std::shared_ptr<const ImagePyramid> pyramid = nullptr);
   // Maps keyframe kf and publishes it as the tracking reference.
   void MapNewKeyframe(int kf);
   // What the tracking reference does not need, done after it is published: kf's candidates (traced
@@ -243,6 +282,14 @@ class System {
   double last_alpha_ = 0.0, last_beta_ = 0.0;  // Brightness of the last frame relative to the reference.
   double last_exposure_ = 1.0;
   double first_rmse_after_keyframe_ = 0.0;
+  TrackingQuality quality_;
+  bool lost_ = false;
+  int lost_in_a_row_ = 0;           // Lost frames since the last trusted one.
+  int failed_relocalisations_ = 0;  // Frames relocalisation tried and failed since the last trusted one.
+  std::optional<Tentative> tentative_;  // Set from a relocalisation until the next frame confirms it.
+  bool wait_after_relocalisation_ = false;  // The next frame waits for the confirming keyframe.
+  // ORB features of the keyframes relocalisation tried, computed on first use.
+  std::map<int, OrbFeatures> keyframe_features_;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.
 };
 

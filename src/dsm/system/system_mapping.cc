@@ -46,6 +46,7 @@ void System::CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const Image
   kf->pyramid = pyramid->HasGradients() ? std::move(pyramid)
                                         : std::make_shared<const ImagePyramid>(pyramid->WithGradients());
   kf->error_model = DefaultErrorModel(options_.pba.robust);
+  kf->signature = ComputeSignature(*kf->pyramid);
   map_.AddKeyframe(std::move(kf));
   ++stats_.keyframes;
 }
@@ -80,8 +81,7 @@ void System::MapNewKeyframe(int kf) {
         p.observations.push_back({kf, false});
     }
   window_.push_back(kf);
-  const int drop = SelectKeyframeToDrop(map_, window_, options_.window);
-  if (drop >= 0) {
+  for (int drop; (drop = SelectKeyframeToDrop(map_, window_, options_.window)) >= 0;) {
     window_.erase(std::find(window_.begin(), window_.end(), drop));
     candidates_.erase(drop);
   }
@@ -286,12 +286,13 @@ void System::PublishTrackingReference() {
   PublishReference(newest, ReferencePointsIn(newest, ActivePointIds()));
 }
 
-void System::PublishReference(int kf, std::vector<ReferencePoint> points) {
+void System::PublishReference(int kf, std::vector<ReferencePoint> points,
+                              std::shared_ptr<const ImagePyramid> pyramid) {
   auto ref = std::make_shared<TrackingReference>();
   ref->points = std::move(points);
   ref->keyframe = kf;
-  ref->pyramid = map_.keyframe(kf).pyramid;
-  for (int k = 0; k <= kf; ++k) {
+  ref->pyramid = pyramid ? std::move(pyramid) : map_.keyframe(kf).pyramid;
+  for (int k = 0; k < map_.NumKeyframes(); ++k) {
     ref->cam_from_world.push_back(map_.keyframe(k).cam_from_world);
     ref->affine.push_back(map_.keyframe(k).affine);
     ref->exposure.push_back(map_.keyframe(k).exposure);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/tracking/frame_tracker.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -10,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "dsm/util/check.h"
+#include "dsm/util/median.h"
 
 namespace dsm {
 
@@ -262,6 +264,10 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
     if (l == 0 && energy.valid > 0) {
       result.inlier_ratio = 1.0 - static_cast<double>(energy.bad) / energy.valid;
       result.rmse = std::sqrt(energy.sum_sq / energy.valid);
+      weighted.clear();
+      for (size_t i = 0; i < res.r.size(); ++i)
+        if (res.valid[i] != 0.f) weighted.push_back(std::abs(level.sqrt_grad_weight[i] * res.r[i]));
+      result.residual_p50 = Median(weighted);
     }
   }
   result.frame_from_keyframe = T;

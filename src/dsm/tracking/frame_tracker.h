@@ -73,6 +73,7 @@ struct TrackResult {
   double alpha = 0.0, beta = 0.0; // I_f = e^alpha I_r + beta (relative brightness)
   double rmse = 0.0;              // Of the gradient-weighted residuals at level 0.
   double inlier_ratio = 0.0;      // Share of level-0 pixels within the fitted model's inlier threshold.
+  double residual_p50 = 0.0;      // Median of the level-0 |sqrt(w_g) r| at the result.
   ErrorModel model;               // Fitted to the level-0 residuals.
   double usage = 0.0;             // Share of reference points whose patch lands in the frame.
   double visibility = 0.0;        // s_u = mean min(rho_kf / rho_frame, 1), 0 out of view (paper VI-B).

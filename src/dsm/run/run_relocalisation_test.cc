@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: MIT
+// Lost frames and relocalisation end to end.
+//   `loop` with the defects of a bad recording (15 black frames, 15 of noise, a corrupt file, a
+//   hand over the lens for 41 frames): the run ends normally in one map; no black or noise frame
+//   is tracked, nor a frame the hand covers for three quarters or more, and none of them nor a
+//   half-covered one becomes a keyframe (the hand's edge over a quarter of the view is tracked and
+//   may make a keyframe, as a near occluder would); tracking is regained by
+//   relocalisation within 5 frames of each episode's end; the keyframe ATE stays <= 3x the clean
+//   run's (measured 1.57 vs 0.65 mm: the 15-frame gaps break the chain of keyframes there).
+//   `loop` spliced onto `forward` (the camera reappears in a corridor it never saw): relocalisation
+//   keeps failing, a second map starts, and each map writes and evaluates its own trajectories.
+#include <algorithm>
+#include <fstream>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "dsm/io/trajectory_io.h"
+#include "dsm/run/run.h"
+#include "dsm/synth/sequence_writer.h"
+#include "dsm/testing/test_data.h"
+
+namespace dsm {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Render(const std::string& scene, int frames, const std::string& defects, const std::string& name) {
+  synth::SynthOptions options;
+  options.scene = scene;
+  options.frames = frames;
+  options.defects = defects;
+  const fs::path dir = testing::ScratchDir("reloc_" + name) / "sequence";
+  synth::WriteSequence(synth::MakeSequence(options), options, dir);
+  return dir;
+}
+
+RunSummary RunSequential(const fs::path& dir, const fs::path& out) {
+  RunOptions options;
+  options.pace = Pace::kSequential;
+  options.quiet = true;
+  return RunDataset(OpenDataset(dir), options, out);
+}
+
+double KeyframeAte(const RunSummary& s) { return (*s.eval)["keyframes"]["ape"]["rmse"].get<double>(); }
+
+// Timestamps (ns) of a TUM file's poses.
+std::set<int64_t> Stamps(const fs::path& file) {
+  const Trajectory t = ReadTrajectory(file, TrajectoryFormat::kTum);
+  return {t.stamps_ns.begin(), t.stamps_ns.end()};
+}
+
+// Whether the frame of timestamp t is in `stamps` (within 1 ms: TUM files store seconds).
+bool Holds(const std::set<int64_t>& stamps, int64_t t) {
+  const auto it = stamps.lower_bound(t - 1000000);
+  return it != stamps.end() && *it <= t + 1000000;
+}
+
+TEST(Relocalisation, DefectsCostTheirFramesOnly) {
+  const fs::path clean = Render("loop", 0, "", "loop_clean");
+  const fs::path bad = Render("loop", 0, "black:200-214,noise:300-314,corrupt:350,cover:400-440", "loop_defects");
+  const RunSummary c = RunSequential(clean, clean.parent_path() / "out");
+  const fs::path out = bad.parent_path() / "out";
+  const RunSummary s = RunSequential(bad, out);
+  std::printf("clean: %s\nwith defects: %s\n", c.line.c_str(), s.line.c_str());
+  EXPECT_EQ(s.stats["frames_skipped"], 1);
+  EXPECT_EQ(s.stats["maps"].size(), 1u);
+  EXPECT_EQ(s.stats["relocalisations"], 3);
+  const auto episodes = s.stats["lost_episodes"].get<std::vector<std::pair<int, int>>>();
+  const std::vector<std::pair<int, int>> defects = {{200, 214}, {300, 314}, {400, 440}};
+  ASSERT_EQ(episodes.size(), defects.size());
+  const Dataset dataset = OpenDataset(bad);
+  const std::set<int64_t> tracked = Stamps(out / "frames.tum"), keyframes = Stamps(out / "keyframes.tum");
+  for (size_t e = 0; e < defects.size(); ++e) {
+    const auto [first, last] = defects[e];
+    // The hand slides in and out: it covers a quarter of the view on the cover's first and last
+    // frame, half on the second and last but one, the whole from the third on.
+    const int edge = e == 2 ? 2 : 0;
+    EXPECT_GE(episodes[e].first, first);
+    EXPECT_LE(episodes[e].first, first + edge);
+    EXPECT_GE(episodes[e].second, last - edge);
+    EXPECT_LE(episodes[e].second, last + 5);
+    for (int i = first; i <= last; ++i) {
+      const int into = std::min(i - first, last - i);
+      if (into >= edge) EXPECT_FALSE(Holds(tracked, dataset.frames[i].t_ns)) << "frame " << i;
+      if (into >= edge / 2) EXPECT_FALSE(Holds(keyframes, dataset.frames[i].t_ns)) << "frame " << i;
+    }
+  }
+  ASSERT_TRUE(s.eval && c.eval);
+  EXPECT_LE(KeyframeAte(s), 3.0 * KeyframeAte(c));
+}
+
+TEST(Relocalisation, ANewPlaceStartsASecondMap) {
+  // 100 frames of `loop`, then 150 of `forward` 50 ms later: one folder dataset.
+  const fs::path room = Render("loop", 100, "", "splice_room"), corridor = Render("forward", 150, "", "splice_corridor");
+  const fs::path dir = testing::ScratchDir("reloc_splice") / "sequence";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "images");
+  fs::copy_file(room / "camera.yaml", dir / "camera.yaml");
+  const Dataset a = OpenDataset(room), b = OpenDataset(corridor);
+  const int64_t shift = a.frames.back().t_ns + 50000000 - b.frames.front().t_ns;
+  Trajectory gt;
+  std::ofstream times(dir / "times.txt");
+  int n = 0;
+  for (const Dataset* d : {&a, &b}) {
+    const int64_t dt = d == &b ? shift : 0;
+    for (size_t i = 0; i < d->size(); ++i, ++n) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "%06d.png", n);
+      fs::create_symlink(d->root / "images" / d->frames[i].image, dir / "images" / name);
+      times << d->frames[i].t_ns + dt << " " << d->frames[i].exposure_ms << "\n";
+      gt.Add(d->frames[i].t_ns + dt, d->ground_truth.poses[i]);
+    }
+  }
+  times.close();
+  WriteTumTrajectory(dir / "groundtruth.tum", gt);
+  const fs::path out = dir.parent_path() / "out";
+  const RunSummary s = RunSequential(dir, out);
+  std::printf("%s\n", s.line.c_str());
+  ASSERT_EQ(s.stats["maps"].size(), 2u);
+  const auto& second = s.stats["maps"][1];
+  EXPECT_EQ(second["dir"], "map_1");
+  EXPECT_GE(second["first_frame"].get<int>(), 101);
+  EXPECT_LE(second["first_frame"].get<int>(), 140);
+  EXPECT_EQ(s.stats["relocalisations"], 0);
+  for (const fs::path& m : {out, out / "map_1"}) {
+    EXPECT_TRUE(fs::exists(m / "keyframes.tum")) << m;
+    EXPECT_TRUE(fs::exists(m / "frames.tum")) << m;
+    EXPECT_TRUE(fs::exists(m / "eval.json")) << m;
+  }
+  // Each map on its own: poses of its own frames only, accurate after its own alignment.
+  EXPECT_LT(*std::prev(Stamps(out / "frames.tum").end()), b.frames.front().t_ns + shift);
+  EXPECT_GT(*Stamps(out / "map_1" / "frames.tum").begin(), a.frames.back().t_ns);
+  for (const auto& m : s.stats["maps"]) EXPECT_LT(m["keyframe_ate_m"].get<double>(), 0.005);
+}
+
+}  // namespace
+}  // namespace dsm

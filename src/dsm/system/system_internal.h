@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+// Helpers shared by the System's source files (system.cc, system_mapping.cc, system_relocalisation.cc).
+#pragma once
+
+#include <chrono>
+#include <cmath>
+
+#include "dsm/lie/se3.h"
+#include "dsm/photometric/residual.h"
+
+namespace dsm::internal {
+
+inline double MsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// T^s on the geodesic from the identity.
+inline SE3d Scale(const SE3d& T, double s) { return SE3d::Exp(s * T.Log()); }
+
+// The absolute brightness of a frame tracked against `ref` with I_f = e^alpha I_ref + beta: from
+//   I_ref - b_ref = e^(a_ref - a_f) tau_ref / tau_f (I_f - b_f)
+// follow a_f = a_ref + alpha - log(tau_f / tau_ref) and b_f = beta + e^alpha b_ref.
+inline AffineBrightness FrameBrightness(const AffineBrightness& ref, double ref_exposure, double alpha, double beta,
+                                        double exposure) {
+  return {ref.a + alpha - std::log(exposure / ref_exposure), beta + std::exp(alpha) * ref.b};
+}
+
+// FrameBrightness inverted: the (alpha, beta) of a frame of absolute brightness `frame` relative
+// to `ref`: alpha = a_f - a_ref + log(tau_f / tau_ref), beta = b_f - e^alpha b_ref.
+inline void RelativeBrightness(const AffineBrightness& frame, double exposure, const AffineBrightness& ref,
+                               double ref_exposure, double* alpha, double* beta) {
+  *alpha = frame.a - ref.a + std::log(exposure / ref_exposure);
+  *beta = frame.b - std::exp(*alpha) * ref.b;
+}
+
+}  // namespace dsm::internal

@@ -1,0 +1,151 @@
+// SPDX-License-Identifier: MIT
+// Relocalisation in the persistent map: a lost frame is aligned with keyframes of the map instead
+// of the last reference alone, and accepted only when it passes the same quality test as tracking
+// (tracking_quality.h). Tracking then resumes against that keyframe, in the same map and scale.
+//
+// Candidates, in order: the reference the camera was lost from, then the `candidates` keyframes
+// whose thumbnails are most like the frame's (image/signature.h). Guesses of the frame's pose
+// relative to candidate K, from the last trusted pose T_lw (last_from_world) and the velocity V
+// over the k frames lost since:
+//   T_lw T_wK,  V^(k+1) T_lw T_wK,  and the same turned by +-3 deg about the camera's x and y,
+// and for K other than the reference also K's own pose (the frame where the keyframe was). The
+// coarse energy ranks them; the best two are aligned coarse to fine.
+#include <algorithm>
+#include <optional>
+
+#include "dsm/image/signature.h"
+#include "dsm/system/mapping_thread.h"
+#include "dsm/system/system.h"
+#include "dsm/system/system_internal.h"
+#include "dsm/tracking/feature_pose.h"
+
+namespace dsm {
+
+const OrbFeatures& System::KeyframeFeatures(int kf) {
+  auto it = keyframe_features_.find(kf);
+  if (it != keyframe_features_.end()) return it->second;
+  const Keyframe& k = map_.keyframe(kf);
+  return keyframe_features_.emplace(kf, DetectOrbFeatures(k.image, {})).first->second;
+}
+
+std::vector<ReferencePoint> System::PointsSeenIn(int kf) {
+  std::vector<int> ids;
+  for (int pid = 0; pid < map_.NumPoints(); ++pid) {
+    const Point& p = map_.point(pid);
+    if (p.removed) continue;
+    const Observation* o = p.host == kf ? nullptr : p.FindObservation(kf);
+    if (p.host == kf || (o != nullptr && !o->outlier)) ids.push_back(pid);
+  }
+  return ReferencePointsIn(kf, ids);
+}
+
+bool System::Relocalise(const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
+                        TrackResult* result, std::string* reason) {
+  // The map is read below: the mapping side must be idle (nothing is handed to it while lost).
+  if (mapping_thread_) mapping_thread_->WaitUntilIdle();
+  UpdateReference(false);
+  const int ref = reference_->keyframe;
+  // The last trusted frame, in the world and in absolute brightness, as the map has it now.
+  const SE3d last_from_world = last_frame_from_reference_ * map_.keyframe(ref).cam_from_world;
+  const AffineBrightness last_brightness =
+      internal::FrameBrightness(map_.keyframe(ref).affine, map_.keyframe(ref).exposure, last_alpha_, last_beta_,
+                                last_exposure_);
+  const SE3d moved = internal::Scale(velocity_, lost_in_a_row_ + 1.0);
+  const double speed = velocity_.Translation().norm();
+  const SE3d half = internal::Scale(velocity_, 0.5 * (lost_in_a_row_ + 1.0));
+  // Coarse to fine over the whole pyramid: the frame may be far from every keyframe.
+  TrackerOptions tracker_options = options_.tracker;
+  while (tracker_options.levels < options_.pyramid_levels) {
+    tracker_options.iterations.insert(tracker_options.iterations.begin() + tracker_options.levels,
+                                      tracker_options.iterations[tracker_options.levels - 1]);
+    ++tracker_options.levels;
+  }
+
+  const OrbFeatures frame_features = DetectOrbFeatures(pyramid, {});
+  // Candidates: the reference, then the keyframes with the most feature matches among the
+  // kPool most alike by thumbnail (a thumbnail alone ranks poorly after a large change of view).
+  constexpr int kPool = 12;
+  std::vector<std::pair<double, int>> similar;
+  for (int k = 0; k < map_.NumKeyframes(); ++k)
+    if (k != ref) similar.emplace_back(-Similarity(signature, map_.keyframe(k).signature), k);
+  const int pool = std::min<int>(kPool, static_cast<int>(similar.size()));
+  std::partial_sort(similar.begin(), similar.begin() + pool, similar.end());
+  std::vector<std::pair<int, int>> matched;  // (-matches, keyframe)
+  for (int i = 0; i < pool; ++i) {
+    const int k = similar[i].second;
+    matched.emplace_back(-CountFeatureMatches(frame_features, KeyframeFeatures(k), {}), k);
+  }
+  const int n = std::min<int>(options_.relocalisation.candidates, static_cast<int>(matched.size()));
+  std::partial_sort(matched.begin(), matched.begin() + n, matched.end());
+  std::vector<int> candidates = {ref};
+  for (int i = 0; i < n; ++i) candidates.push_back(matched[i].second);
+
+  struct Found {
+    TrackResult result;
+    int keyframe = -1;
+    std::vector<ReferencePoint> points;
+    std::shared_ptr<const ImagePyramid> pyramid;
+  };
+  std::optional<Found> best;
+  std::string why = "no keyframe to relocalise against";
+  for (int k : candidates) {
+    const Keyframe& kf = map_.keyframe(k);
+    std::vector<ReferencePoint> points = PointsSeenIn(k);
+    if (points.empty()) continue;
+    std::shared_ptr<const ImagePyramid> kf_pyramid =
+        kf.pyramid ? kf.pyramid : std::make_shared<const ImagePyramid>(ImagePyramid::FromFixed(kf.image, kf.pyramid_levels));
+    FrameTracker tracker(tracker_options);
+    tracker.SetReference(kf_pyramid.get(), camera_, points);
+    const SE3d still = last_from_world * kf.cam_from_world.Inverse();
+    std::vector<SE3d> guesses;
+    const OrbFeatures& orb = KeyframeFeatures(k);
+    const FeaturePose feature_pose = EstimateFeaturePose(frame_features, orb, points, camera_, {});
+    if (feature_pose.ok) guesses.push_back(feature_pose.frame_from_keyframe);
+    for (const SE3d& base : {still, half * still, moved * still}) {
+      guesses.push_back(base);
+      for (double angle : {0.05, -0.05})
+        for (int axis = 0; axis < 2; ++axis) {
+          Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
+          xi(3 + axis) = angle;
+          guesses.push_back(SE3d::Exp(xi) * base);
+        }
+    }
+    if (k != ref) guesses.push_back(SE3d());
+    double alpha, beta;
+    internal::RelativeBrightness(last_brightness, exposure, kf.affine, kf.exposure, &alpha, &beta);
+    std::vector<std::pair<double, int>> ranked;
+    for (size_t g = 0; g < guesses.size(); ++g)
+      ranked.emplace_back(tracker.CoarseEnergy(pyramid, guesses[g], alpha, beta), static_cast<int>(g));
+    std::stable_sort(ranked.begin(), ranked.end());
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      const TrackResult r = tracker.Track(pyramid, guesses[ranked[attempt].second], alpha, beta);
+      const SE3d step = r.frame_from_keyframe * kf.cam_from_world * last_from_world.Inverse();
+      std::string fail = quality_.CheckTracking(r, step, lost_in_a_row_ + 1, tracker.MeanIdepth());
+      if (fail.empty()) fail = quality_.CheckJump(step, lost_in_a_row_ + 1, speed, tracker.MeanIdepth());
+      if (!fail.empty()) {
+        why = fail;
+        continue;
+      }
+      if (!best || r.residual_p50 < best->result.residual_p50) best = Found{r, k, points, kf_pyramid};
+    }
+  }
+  if (!best) {
+    *reason = "relocalisation failed: " + why;
+    return false;
+  }
+  // The keyframe becomes the reference of both sides: the mapping side is idle, and the next
+  // keyframe it maps is made relative to it.
+  if (best->keyframe != ref) {
+    PublishReference(best->keyframe, std::move(best->points), best->pyramid);
+    {
+      std::lock_guard<std::mutex> lock(reference_mutex_);
+      reference_ = published_;
+    }
+    tracker_->SetReference(reference_->pyramid.get(), camera_, reference_->points);
+    first_rmse_after_keyframe_ = 0.0;
+  }
+  *result = best->result;
+  return true;
+}
+
+}  // namespace dsm

@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/tracking/feature_pose.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <Eigen/Geometry>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
+
+namespace dsm {
+
+namespace {
+
+template <typename Value>
+OrbFeatures Detect(int w, int h, const Value& value, const FeaturePoseOptions& options) {
+  cv::Mat image(h, w, CV_8U);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) image.at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(value(x, y));
+  OrbFeatures f;
+  cv::ORB::create(options.max_features)->detectAndCompute(image, cv::noArray(), f.keypoints, f.descriptors);
+  return f;
+}
+
+}  // namespace
+
+OrbFeatures DetectOrbFeatures(const ImagePyramid& pyramid, const FeaturePoseOptions& options) {
+  return Detect(pyramid.width(0), pyramid.height(0), [&](int x, int y) { return pyramid.Value(0, x, y); }, options);
+}
+
+OrbFeatures DetectOrbFeatures(const Image<uint16_t>& fixed, const FeaturePoseOptions& options) {
+  return Detect(fixed.width(), fixed.height(),
+                [&](int x, int y) { return fixed(x, y) * (1.f / ImagePyramid::kValueScale); }, options);
+}
+
+namespace {
+
+// The map points of a keyframe hashed by cells of `cell` pixels, for the nearest one to a keypoint.
+class PointGrid {
+ public:
+  PointGrid(const std::vector<ReferencePoint>& points, float cell) : points_(points), cell_(cell) {
+    for (size_t i = 0; i < points.size(); ++i) cells_[Key(Cell(points[i].pixel.x()), Cell(points[i].pixel.y()))].push_back(i);
+  }
+  // Index of the nearest point within `radius` (<= cell) of (x, y), or -1.
+  int Nearest(float x, float y, float radius) const {
+    int best = -1;
+    float best_d2 = radius * radius;
+    const int cx = Cell(x), cy = Cell(y);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const auto it = cells_.find(Key(cx + dx, cy + dy));
+        if (it == cells_.end()) continue;
+        for (size_t i : it->second) {
+          const float d2 = (points_[i].pixel - Eigen::Vector2f(x, y)).squaredNorm();
+          if (d2 <= best_d2) best_d2 = d2, best = static_cast<int>(i);
+        }
+      }
+    return best;
+  }
+
+ private:
+  int Cell(float v) const { return static_cast<int>(std::floor(v / cell_)); }
+  static int64_t Key(int x, int y) { return (static_cast<int64_t>(x) << 32) ^ static_cast<uint32_t>(y); }
+  const std::vector<ReferencePoint>& points_;
+  float cell_;
+  std::unordered_map<int64_t, std::vector<size_t>> cells_;
+};
+
+}  // namespace
+
+namespace {
+
+// Index pairs (frame, keyframe) of the matches that pass the ratio test.
+std::vector<cv::DMatch> RatioMatches(const OrbFeatures& frame, const OrbFeatures& keyframe, double ratio) {
+  std::vector<cv::DMatch> good;
+  if (frame.descriptors.empty() || keyframe.descriptors.empty()) return good;
+  std::vector<std::vector<cv::DMatch>> knn;
+  cv::BFMatcher(cv::NORM_HAMMING).knnMatch(frame.descriptors, keyframe.descriptors, knn, 2);
+  for (const auto& m : knn)
+    if (m.size() == 2 && m[0].distance <= ratio * m[1].distance) good.push_back(m[0]);
+  return good;
+}
+
+}  // namespace
+
+int CountFeatureMatches(const OrbFeatures& frame, const OrbFeatures& keyframe, const FeaturePoseOptions& options) {
+  return static_cast<int>(RatioMatches(frame, keyframe, options.ratio).size());
+}
+
+FeaturePose EstimateFeaturePose(const OrbFeatures& frame, const OrbFeatures& keyframe,
+                                const std::vector<ReferencePoint>& points, const PinholeCamera& camera,
+                                const FeaturePoseOptions& options) {
+  FeaturePose pose;
+  if (points.empty()) return pose;
+  const PointGrid grid(points, options.max_depth_px);
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  for (const cv::DMatch& m : RatioMatches(frame, keyframe, options.ratio)) {
+    const cv::Point2f& u = keyframe.keypoints[m.trainIdx].pt;
+    const int p = grid.Nearest(u.x, u.y, options.max_depth_px);
+    if (p < 0) continue;
+    // X = pi^-1(u, rho): the keypoint's ray at the point's depth.
+    const Eigen::Vector3d X = camera.Unproject(u.x, u.y) / points[p].idepth;
+    object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()));
+    image.push_back(frame.keypoints[m.queryIdx].pt);
+  }
+  pose.matches = static_cast<int>(object.size());
+  if (pose.matches < options.min_inliers) return pose;
+  const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  cv::Vec3d rvec, tvec;
+  std::vector<int> inliers;
+  if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 200, static_cast<float>(options.ransac_px),
+                          0.999, inliers, cv::SOLVEPNP_EPNP)) {
+    return pose;
+  }
+  pose.inliers = static_cast<int>(inliers.size());
+  if (pose.inliers < options.min_inliers) return pose;
+  cv::Matx33d R;
+  cv::Rodrigues(rvec, R);
+  Eigen::Matrix3d Re;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) Re(r, c) = R(r, c);
+  pose.frame_from_keyframe = SE3d(Eigen::Quaterniond(Re).normalized(), Eigen::Vector3d(tvec[0], tvec[1], tvec[2]));
+  pose.ok = pose.frame_from_keyframe.Matrix().allFinite();
+  return pose;
+}
+
+}  // namespace dsm

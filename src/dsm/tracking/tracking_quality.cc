@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/tracking/tracking_quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "dsm/util/check.h"
+#include "dsm/util/median.h"
+
+namespace dsm {
+
+namespace {
+
+std::string Format(const char* format, double a, double b) {
+  char text[160];
+  std::snprintf(text, sizeof(text), format, a, b);
+  return text;
+}
+
+double MedianOf(const std::deque<double>& values) {
+  if (values.empty()) return 0.0;
+  return Median(std::vector<double>(values.begin(), values.end()));
+}
+
+}  // namespace
+
+void QualityOptions::Validate() const {
+  if (!(min_texture_ratio >= 0.0 && min_texture_ratio < 1.0)) throw InputError("quality.min_texture_ratio must be in [0, 1)");
+  if (!(max_residual_ratio > 1.0)) throw InputError("quality.max_residual_ratio must be above 1");
+  if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio < 1.0)) throw InputError("quality.min_inlier_ratio must be in [0, 1)");
+  if (!(max_rotation_deg > 0.0 && max_rotation_deg <= 180.0)) throw InputError("quality.max_rotation_deg must be in (0, 180]");
+  if (!(max_parallax > 0.0)) throw InputError("quality.max_parallax must be positive");
+  if (history < 1) throw InputError("quality.history must be at least 1");
+  if (!(max_speed_ratio > 0.0)) throw InputError("quality.max_speed_ratio must be positive");
+  if (!(min_speed >= 0.0)) throw InputError("quality.min_speed must be non-negative");
+}
+
+TrackingQuality::TrackingQuality(const QualityOptions& options) : options_(options) { options_.Validate(); }
+
+double TrackingQuality::ResidualLevel() const { return MedianOf(residual_); }
+double TrackingQuality::TextureLevel() const { return MedianOf(texture_); }
+
+std::string TrackingQuality::CheckImage(double texture) const {
+  if (!std::isfinite(texture)) return "unusable image";
+  const double level = TextureLevel();
+  if (static_cast<int>(texture_.size()) >= options_.history && texture < options_.min_texture_ratio * level)
+    return Format("too little texture (%.2f, usual %.2f)", texture, level);
+  return {};
+}
+
+std::string TrackingQuality::CheckTracking(const TrackResult& r, const SE3d& step, int frames, double mean_idepth) const {
+  if (!r.ok) return r.reason;
+  const double level = ResidualLevel();
+  if (static_cast<int>(residual_.size()) >= options_.history && !(r.residual_p50 <= options_.max_residual_ratio * level))
+    return Format("median residual %.1f, usual %.1f", r.residual_p50, level);
+  if (r.inlier_ratio < options_.min_inlier_ratio)
+    return Format("%.0f%% inliers (at least %.0f%%)", 100.0 * r.inlier_ratio, 100.0 * options_.min_inlier_ratio);
+  const double deg = step.So3().Log().norm() * 180.0 / M_PI;
+  if (deg > options_.max_rotation_deg * std::max(frames, 1))
+    return Format("implausible motion (%.0f deg in %.0f frames)", deg, std::max(frames, 1));
+  const double parallax = r.frame_from_keyframe.Translation().norm() * mean_idepth;
+  if (!(parallax <= options_.max_parallax)) return Format("implausible motion (parallax %.2g, at most %.2g)", parallax, options_.max_parallax);
+  return {};
+}
+
+std::string TrackingQuality::CheckJump(const SE3d& step, int frames, double speed, double mean_idepth) const {
+  const double reach = std::max(frames, 1) * (options_.max_speed_ratio * speed + options_.min_speed / mean_idepth);
+  const double moved = step.Translation().norm();
+  if (!(moved <= reach)) return Format("implausible jump (%.2g, reach %.2g)", moved, reach);
+  return {};
+}
+
+void TrackingQuality::Restart(double residual_p50, double texture) {
+  const double level = std::max(ResidualLevel(), residual_p50);
+  residual_.assign(options_.history, level);
+  Trust(residual_p50, texture);
+}
+
+void TrackingQuality::Trust(double residual_p50, double texture) {
+  residual_.push_back(residual_p50);
+  texture_.push_back(texture);
+  while (static_cast<int>(residual_.size()) > options_.history) residual_.pop_front();
+  while (static_cast<int>(texture_.size()) > options_.history) texture_.pop_front();
+}
+
+}  // namespace dsm

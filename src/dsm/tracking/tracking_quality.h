@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+// The tracking-quality test: whether a frame's pose can be trusted. A frame that fails it is
+// *lost*: it gets no pose, never becomes a keyframe and never feeds the candidates or the PBA.
+//
+// The levels a frame is compared with are running medians over the last `history` trusted frames,
+// so the test follows the sequence (a render with sensor noise and a camera image differ 10x in
+// residual) instead of absolute thresholds:
+//   image:    texture < min_texture_ratio x texture level         (black, saturated, covered lens)
+//   tracking: median |residual| > max_residual_ratio x its level   (noise, a wrong minimum)
+//             inlier_ratio < min_inlier_ratio                      (most of the view changed)
+//             rotation of the step from the last trusted frame > max_rotation_deg per frame
+//             between them (no hand or vehicle turns that fast; a diverged alignment does)
+//             parallax against the reference, |t| x mean inverse depth of its points, > max_parallax
+//             (keyframes come at 1/4; an alignment that ran off to infinity projects every point
+//             onto the epipole and leaves a small residual)
+//   relocalisation, besides: the camera moved from the last trusted pose by more than
+//             (frames) x (max_speed_ratio x its speed before + min_speed x mean depth) per frame
+//             (a repetitive scene offers a second place that looks the same)
+// Until `history` frames are trusted only the absolute rules apply. The median of the level-0
+// gradient-weighted residuals (TrackResult::residual_p50), not their RMS: occlusions and moving
+// things add outliers to a good alignment (the RMS of clean frames reaches 3.2x its running level,
+// the median 2.6x, measured on the shared EuRoC and room frames and on `loop` and `forward`), while
+// a frame of noise or an alignment in a wrong minimum moves the median itself (12-20x).
+#pragma once
+
+#include <deque>
+#include <string>
+
+#include "dsm/lie/se3.h"
+#include "dsm/tracking/frame_tracker.h"
+
+namespace dsm {
+
+struct QualityOptions {
+  double min_texture_ratio = 0.35;
+  double max_residual_ratio = 4.0;
+  double min_inlier_ratio = 0.5;
+  double max_rotation_deg = 25.0;
+  double max_parallax = 1.5;
+  double max_speed_ratio = 2.0;
+  double min_speed = 0.02;
+  int history = 20;
+
+  void Validate() const;
+};
+
+class TrackingQuality {
+ public:
+  explicit TrackingQuality(const QualityOptions& options);
+
+  // Empty when a frame of this texture (FrameSignature::texture) may be tracked, else why not.
+  std::string CheckImage(double texture) const;
+  // Empty when the tracked frame can be trusted, else why not. `step`: its motion from the last
+  // trusted frame (frame_from_last), `frames` frames after it; `mean_idepth`: of the reference's points.
+  std::string CheckTracking(const TrackResult& result, const SE3d& step, int frames, double mean_idepth) const;
+  // Empty when a relocalised pose is within reach of the last trusted one: `step` from it (as in
+  // CheckTracking), `frames` later; `speed`: the camera's translation per frame before it was
+  // lost; `mean_idepth`: of the reference's points.
+  std::string CheckJump(const SE3d& step, int frames, double speed, double mean_idepth) const;
+  // A trusted frame: its values join the levels.
+  void Trust(double residual_p50, double texture);
+  // A relocalised frame: its reference is another keyframe, often a farther one than tracking
+  // uses, so its residual level starts again from this frame's (never below the old level).
+  void Restart(double residual_p50, double texture);
+
+  double ResidualLevel() const;  // 0 before the first trusted frame.
+  double TextureLevel() const;  // 0 before the first trusted frame.
+
+ private:
+  QualityOptions options_;
+  std::deque<double> residual_, texture_;
+};
+
+}  // namespace dsm

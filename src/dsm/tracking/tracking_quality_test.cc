@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/tracking/tracking_quality.h"
+
+#include <gtest/gtest.h>
+
+namespace dsm {
+namespace {
+
+TrackResult Tracked(double p50, double inliers = 0.9) {
+  TrackResult r;
+  r.ok = true;
+  r.residual_p50 = p50;
+  r.inlier_ratio = inliers;
+  return r;
+}
+
+SE3d Turned(double deg, double tx = 0.0) {
+  Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
+  xi(0) = tx;
+  xi(4) = deg * M_PI / 180.0;
+  return SE3d::Exp(xi);
+}
+
+TEST(TrackingQuality, JudgesAgainstTheRunningLevels) {
+  QualityOptions o;
+  o.history = 5;
+  TrackingQuality q(o);
+  // Before `history` trusted frames only the absolute rules apply.
+  EXPECT_EQ(q.CheckImage(0.0), "");
+  EXPECT_EQ(q.CheckTracking(Tracked(100.0), SE3d(), 1, 1.0), "");
+  for (double p50 : {2.0, 2.2, 1.8, 2.1, 1.9}) q.Trust(p50, 10.0);
+  EXPECT_DOUBLE_EQ(q.ResidualLevel(), 2.0);
+  EXPECT_DOUBLE_EQ(q.TextureLevel(), 10.0);
+  EXPECT_EQ(q.CheckImage(5.0), "");
+  EXPECT_NE(q.CheckImage(3.0).find("too little texture"), std::string::npos);
+  EXPECT_NE(q.CheckImage(std::nan("")), "");
+  EXPECT_EQ(q.CheckTracking(Tracked(7.9), SE3d(), 1, 1.0), "");
+  EXPECT_NE(q.CheckTracking(Tracked(8.1), SE3d(), 1, 1.0).find("median residual"), std::string::npos);
+  EXPECT_NE(q.CheckTracking(Tracked(2.0, 0.4), SE3d(), 1, 1.0).find("inliers"), std::string::npos);
+  TrackResult failed;
+  failed.reason = "diverged";
+  EXPECT_EQ(q.CheckTracking(failed, SE3d(), 1, 1.0), "diverged");
+  // Motion: 25 deg per frame, parallax 1.5 against the reference.
+  EXPECT_EQ(q.CheckTracking(Tracked(2.0), Turned(20.0), 1, 1.0), "");
+  EXPECT_NE(q.CheckTracking(Tracked(2.0), Turned(30.0), 1, 1.0).find("implausible motion"), std::string::npos);
+  EXPECT_EQ(q.CheckTracking(Tracked(2.0), Turned(30.0), 2, 1.0), "");
+  TrackResult far = Tracked(2.0);
+  far.frame_from_keyframe = Turned(0.0, 2.0);
+  EXPECT_NE(q.CheckTracking(far, SE3d(), 1, 1.0).find("parallax"), std::string::npos);
+  EXPECT_EQ(q.CheckTracking(far, SE3d(), 1, 0.5), "");
+}
+
+TEST(TrackingQuality, BoundsTheJumpOfARelocalisation) {
+  TrackingQuality q{QualityOptions{}};
+  // Reach per frame: 2 x speed + 0.02 x mean depth; 10 frames at speed 0.01, depth 1: 0.4.
+  EXPECT_EQ(q.CheckJump(Turned(0.0, 0.39), 10, 0.01, 1.0), "");
+  EXPECT_NE(q.CheckJump(Turned(0.0, 0.41), 10, 0.01, 1.0).find("implausible jump"), std::string::npos);
+  EXPECT_EQ(q.CheckJump(Turned(0.0, 0.41), 11, 0.01, 1.0), "");
+}
+
+TEST(TrackingQuality, RestartsTheResidualLevelAtARelocalisedFrame) {
+  QualityOptions o;
+  o.history = 3;
+  TrackingQuality q(o);
+  for (int i = 0; i < 3; ++i) q.Trust(1.0, 10.0);
+  q.Restart(3.0, 10.0);
+  EXPECT_DOUBLE_EQ(q.ResidualLevel(), 3.0);
+  EXPECT_EQ(q.CheckTracking(Tracked(11.0), SE3d(), 1, 1.0), "");
+  q.Restart(0.5, 10.0);  // Never below the old level.
+  EXPECT_DOUBLE_EQ(q.ResidualLevel(), 3.0);
+}
+
+TEST(TrackingQuality, RejectsBadOptions) {
+  QualityOptions o;
+  o.max_residual_ratio = 1.0;
+  EXPECT_THROW(TrackingQuality{o}, InputError);
+  o = QualityOptions();
+  o.history = 0;
+  EXPECT_THROW(TrackingQuality{o}, InputError);
+}
+
+}  // namespace
+}  // namespace dsm
