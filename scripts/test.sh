@@ -2,9 +2,31 @@
 # Set-up, build and the whole test suite. Extra arguments go to ctest, e.g.
 #   ./scripts/test.sh -L slow      only the long end-to-end tests
 #   ./scripts/test.sh -LE slow     everything else
+#   ./scripts/test.sh --sanitize   AddressSanitizer + UndefinedBehaviorSanitizer: builds build-asan/
+#                                  (DSM_ASAN_DIR), runs the unit tests and one short end-to-end run
+#                                  of a rendered scene with defects (lost frames, relocalisation);
+#                                  fails on any report
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
+if [ "${1:-}" = "--sanitize" ]; then
+  shift
+  ASAN_DIR="${DSM_ASAN_DIR:-build-asan}"
+  if [ ! -f "$ASAN_DIR/build.ninja" ]; then
+    cmake -S . -B "$ASAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDSM_SANITIZE=address,undefined \
+      -DDSM_BUILD_BENCHMARKS=OFF >/dev/null
+  fi
+  cmake --build "$ASAN_DIR" -j "${DSM_JOBS:-$(nproc)}"
+  export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1" UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+  (cd "$ASAN_DIR" && ctest --output-on-failure -j "${DSM_JOBS:-$(nproc)}" -LE slow "$@")
+  work="$(mktemp -d)"
+  trap 'rm -rf "$work"' EXIT
+  "$ASAN_DIR/bin/dsm" synth --scene loop --frames 160 --out "$work/loop" \
+    --defects black:60-66,noise:80-84,corrupt:90,cover:110-125 >/dev/null
+  "$ASAN_DIR/bin/dsm" run "$work/loop" --sequential --quiet --out "$work/out"
+  echo "sanitize: unit tests and the end-to-end run clean"
+  exit 0
+fi
 BUILD_DIR="${DSM_BUILD_DIR:-build}"
 cd "$BUILD_DIR"
 ctest --output-on-failure -j "${DSM_JOBS:-$(nproc)}" "$@"

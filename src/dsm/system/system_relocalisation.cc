@@ -1,15 +1,20 @@
 // SPDX-License-Identifier: MIT
 // Relocalisation in the persistent map: a lost frame is aligned with keyframes of the map instead
 // of the last reference alone, and accepted only when it passes the same quality test as tracking
-// (tracking_quality.h). Tracking then resumes against that keyframe, in the same map and scale.
+// (tracking_quality.h) and lies within reach of the last trusted pose (TrackingQuality::CheckJump).
+// Tracking then resumes against that keyframe, in the same map and scale; System::Process holds
+// the result as tentative until the next frame confirms it.
 //
-// Candidates, in order: the reference the camera was lost from, then the `candidates` keyframes
-// whose thumbnails are most like the frame's (image/signature.h). Guesses of the frame's pose
-// relative to candidate K, from the last trusted pose T_lw (last_from_world) and the velocity V
-// over the k frames lost since:
-//   T_lw T_wK,  V^(k+1) T_lw T_wK,  and the same turned by +-3 deg about the camera's x and y,
-// and for K other than the reference also K's own pose (the frame where the keyframe was). The
-// coarse energy ranks them; the best two are aligned coarse to fine.
+// Candidates: the reference the camera was lost from, then the `candidates` keyframes with the
+// most ORB matches (feature_pose.h) among the kPool whose thumbnails are most like the frame's
+// (image/signature.h). Guesses of the frame's pose relative to candidate K, from the last trusted
+// pose T_lw (last_from_world) and the velocity V over the k frames lost since:
+//   the RANSAC PnP pose of the frame's ORB matches to K's,
+//   T_lw T_wK,  V^((k+1)/2) T_lw T_wK,  V^(k+1) T_lw T_wK,  each also turned by +-0.05 rad about
+//   the camera's x and y axes,
+// and for K other than the reference K's own pose. The coarse energy ranks them; the best two are
+// aligned coarse to fine over the whole pyramid (the frame may be far from every keyframe), and
+// the passing result with the smallest median residual wins.
 #include <algorithm>
 #include <optional>
 
