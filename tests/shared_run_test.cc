@@ -117,8 +117,12 @@ TEST(SharedRun, EurocWithDefectsRelocalisesInTheSameMap) {
       for (int i = defects[e].first; i <= defects[e].second; ++i) {
         // A quarter of the view covered on the cover's first and last frame, half on the next.
         const int into = std::min(i - defects[e].first, defects[e].second - i), edge = e == 2 ? 2 : 0;
-        if (into >= edge) EXPECT_FALSE(holds(tracked, i)) << name << " frame " << i;
-        if (into >= edge / 2) EXPECT_FALSE(holds(keyframes, i)) << name << " frame " << i;
+        if (into >= edge) {
+          EXPECT_FALSE(holds(tracked, i)) << name << " frame " << i;
+        }
+        if (into >= edge / 2) {
+          EXPECT_FALSE(holds(keyframes, i)) << name << " frame " << i;
+        }
       }
     for (int i = episodes.back().second + 1; i < static_cast<int>(dataset.size()); ++i)
       EXPECT_TRUE(holds(tracked, i)) << name << " frame " << i;

@@ -82,8 +82,12 @@ TEST(Relocalisation, DefectsCostTheirFramesOnly) {
     EXPECT_LE(episodes[e].second, last + 5);
     for (int i = first; i <= last; ++i) {
       const int into = std::min(i - first, last - i);
-      if (into >= edge) EXPECT_FALSE(Holds(tracked, dataset.frames[i].t_ns)) << "frame " << i;
-      if (into >= edge / 2) EXPECT_FALSE(Holds(keyframes, dataset.frames[i].t_ns)) << "frame " << i;
+      if (into >= edge) {
+        EXPECT_FALSE(Holds(tracked, dataset.frames[i].t_ns)) << "frame " << i;
+      }
+      if (into >= edge / 2) {
+        EXPECT_FALSE(Holds(keyframes, dataset.frames[i].t_ns)) << "frame " << i;
+      }
     }
   }
   ASSERT_TRUE(s.eval && c.eval);
