@@ -12,14 +12,12 @@
 //   quarters or more, is tracked, and none of them nor a half-covered one becomes a keyframe;
 //   tracking is regained within 5 frames of each episode's end by relocalisation in the same map,
 //   every frame after the last defect is tracked, and the keyframe ATE stays <= 6 mm.
-#include <algorithm>
 #include <map>
-#include <set>
 
 #include <gtest/gtest.h>
 
 #include "dsm/io/euroc_copy.h"
-#include "dsm/io/trajectory_io.h"
+#include "dsm/run/defect_checks.h"
 #include "dsm/run/run.h"
 #include "dsm/testing/test_data.h"
 
@@ -90,42 +88,8 @@ TEST(SharedRun, EurocWithDefectsRelocalisesInTheSameMap) {
     const RunSummary s = RunDataset(dataset, options, dir / ("out_" + name));
     std::printf("euroc with defects %s: %s\n", name.c_str(), s.line.c_str());
     EXPECT_EQ(s.stats["frames_skipped"], 1) << name;
-    EXPECT_EQ(s.stats["maps"].size(), 1u) << name;
-    const auto episodes = s.stats["lost_episodes"].get<std::vector<std::pair<int, int>>>();
-    ASSERT_EQ(episodes.size(), 3u) << name;
-    EXPECT_EQ(s.stats["relocalisations"], 3) << name;
-    const std::vector<std::pair<int, int>> defects = {{100, 114}, {160, 174}, {240, 280}};
-    for (size_t e = 0; e < 3; ++e) {
-      const int edge = e == 2 ? 2 : 0;  // The hand slides in and out over two frames.
-      EXPECT_GE(episodes[e].first, defects[e].first) << name;
-      EXPECT_LE(episodes[e].first, defects[e].first + edge) << name;
-      EXPECT_GE(episodes[e].second, defects[e].second - edge) << name;
-      EXPECT_LE(episodes[e].second, defects[e].second + 5) << name;
-    }
-    // Tracked frames: none of the defects, every one after the last.
-    const auto stamps = [&](const char* file) {
-      const Trajectory t = ReadTrajectory(dir / ("out_" + name) / file, TrajectoryFormat::kTum);
-      return std::set<int64_t>(t.stamps_ns.begin(), t.stamps_ns.end());
-    };
-    // Whether frame i is in the file (its timestamp within 1 ms: TUM stores seconds).
-    const auto holds = [&](const std::set<int64_t>& set, int i) {
-      const auto it = set.lower_bound(dataset.frames[i].t_ns - 1000000);
-      return it != set.end() && *it <= dataset.frames[i].t_ns + 1000000;
-    };
-    const std::set<int64_t> tracked = stamps("frames.tum"), keyframes = stamps("keyframes.tum");
-    for (size_t e = 0; e < 3; ++e)
-      for (int i = defects[e].first; i <= defects[e].second; ++i) {
-        // A quarter of the view covered on the cover's first and last frame, half on the next.
-        const int into = std::min(i - defects[e].first, defects[e].second - i), edge = e == 2 ? 2 : 0;
-        if (into >= edge) {
-          EXPECT_FALSE(holds(tracked, i)) << name << " frame " << i;
-        }
-        if (into >= edge / 2) {
-          EXPECT_FALSE(holds(keyframes, i)) << name << " frame " << i;
-        }
-      }
-    for (int i = episodes.back().second + 1; i < static_cast<int>(dataset.size()); ++i)
-      EXPECT_TRUE(holds(tracked, i)) << name << " frame " << i;
+    testing::ExpectDefectsCostTheirFramesOnly(dataset, s, dir / ("out_" + name),
+                                              {{100, 114}, {160, 174}, {240, 280, true}}, name);
     ASSERT_TRUE(s.eval.has_value());
     EXPECT_LE((*s.eval)["keyframes"]["ape"]["rmse"].get<double>(), 0.006) << name;
   }

@@ -424,13 +424,8 @@ TrackResult System::TrackFrame(const ImagePyramid& pyramid, double exposure) con
   // Guesses of frame_from_reference: constant velocity first, then alternatives.
   const SE3d last = last_frame_from_reference_;
   std::vector<SE3d> guesses = {velocity_ * last, last, velocity_ * velocity_ * last, Scale(velocity_, 0.5) * last};
-  for (double angle : {0.02, -0.02}) {
-    for (int axis = 0; axis < 3; ++axis) {
-      Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
-      xi(3 + axis) = angle;
-      guesses.push_back(SE3d::Exp(xi) * velocity_ * last);
-    }
-  }
+  for (double angle : {0.02, -0.02})
+    for (int axis = 0; axis < 3; ++axis) guesses.push_back(internal::RotationAbout(axis, angle) * velocity_ * last);
   std::vector<std::pair<double, int>> ranked;
   for (size_t g = 0; g < guesses.size(); ++g)
     ranked.emplace_back(tracker_->CoarseEnergy(pyramid, guesses[g], alpha_guess, last_beta_), static_cast<int>(g));
@@ -496,15 +491,8 @@ void System::WithdrawRelocalisation() {
   stats_.lost_episodes.back().second = t.index;
   lost_in_a_row_ = t.lost_in_a_row + 1;
   failed_relocalisations_ = t.failed_relocalisations + 1;
-  if (reference_ != t.reference) {
-    // The mapping side is idle: it was handed nothing since the camera was lost.
-    {
-      std::lock_guard<std::mutex> lock(reference_mutex_);
-      published_ = t.reference;
-    }
-    reference_ = t.reference;
-    tracker_->SetReference(reference_->pyramid.get(), camera_, reference_->points);
-  }
+  // The mapping side is idle: it was handed nothing since the camera was lost.
+  if (reference_ != t.reference) AdoptReference(t.reference);
   last_frame_from_reference_ = t.last_frame_from_reference;
   velocity_ = t.velocity;
   last_alpha_ = t.alpha;

@@ -225,10 +225,13 @@ class System {
                        double beta, double exposure);
   void CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                       const SE3d& cam_from_world, const AffineBrightness& affine);
-  // Hands keyframe kf with `points` to the tracking side (it takes them in UpdateReference);
-  // `pyramid`: kf's, when the map holds none (it was released).
-  void PublishReference(int kf, std::vector<ReferencePoint> points,
-                        std::shared_ptr<const ImagePyramid> pyramid = nullptr);
+  // Hands keyframe kf with `points` to the tracking side (it takes them in UpdateReference).
+  void PublishReference(int kf, std::vector<ReferencePoint> points);
+  // The snapshot of keyframe kf with `points`; `pyramid`: kf's, when the map holds none (released).
+  std::shared_ptr<const TrackingReference> MakeReference(int kf, std::vector<ReferencePoint> points,
+                                                         std::shared_ptr<const ImagePyramid> pyramid = nullptr) const;
+  // Tracking side, while the mapping side is idle (lost): `ref` becomes the reference of both sides.
+  void AdoptReference(std::shared_ptr<const TrackingReference> ref);
   // Maps keyframe kf and publishes it as the tracking reference.
   void MapNewKeyframe(int kf);
   // What the tracking reference does not need, done after it is published: kf's candidates (traced

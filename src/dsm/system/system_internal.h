@@ -17,6 +17,13 @@ inline double MsSince(std::chrono::steady_clock::time_point t0) {
 // T^s on the geodesic from the identity.
 inline SE3d Scale(const SE3d& T, double s) { return SE3d::Exp(s * T.Log()); }
 
+// A rotation by `angle` radians about camera axis `axis` (0: x, 1: y, 2: z), to turn a pose guess.
+inline SE3d RotationAbout(int axis, double angle) {
+  Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
+  xi(3 + axis) = angle;
+  return SE3d::Exp(xi);
+}
+
 // The absolute brightness of a frame tracked against `ref` with I_f = e^alpha I_ref + beta: from
 //   I_ref - b_ref = e^(a_ref - a_f) tau_ref / tau_f (I_f - b_f)
 // follow a_f = a_ref + alpha - log(tau_f / tau_ref) and b_f = beta + e^alpha b_ref.

@@ -286,8 +286,14 @@ void System::PublishTrackingReference() {
   PublishReference(newest, ReferencePointsIn(newest, ActivePointIds()));
 }
 
-void System::PublishReference(int kf, std::vector<ReferencePoint> points,
-                              std::shared_ptr<const ImagePyramid> pyramid) {
+void System::PublishReference(int kf, std::vector<ReferencePoint> points) {
+  std::shared_ptr<const TrackingReference> ref = MakeReference(kf, std::move(points));
+  std::lock_guard<std::mutex> lock(reference_mutex_);
+  published_ = std::move(ref);
+}
+
+std::shared_ptr<const System::TrackingReference> System::MakeReference(
+    int kf, std::vector<ReferencePoint> points, std::shared_ptr<const ImagePyramid> pyramid) const {
   auto ref = std::make_shared<TrackingReference>();
   ref->points = std::move(points);
   ref->keyframe = kf;
@@ -297,8 +303,7 @@ void System::PublishReference(int kf, std::vector<ReferencePoint> points,
     ref->affine.push_back(map_.keyframe(k).affine);
     ref->exposure.push_back(map_.keyframe(k).exposure);
   }
-  std::lock_guard<std::mutex> lock(reference_mutex_);
-  published_ = std::move(ref);
+  return ref;
 }
 
 }  // namespace dsm

@@ -33,6 +33,16 @@ const OrbFeatures& System::KeyframeFeatures(int kf) {
   return keyframe_features_.emplace(kf, DetectOrbFeatures(k.image, {})).first->second;
 }
 
+void System::AdoptReference(std::shared_ptr<const TrackingReference> ref) {
+  {
+    std::lock_guard<std::mutex> lock(reference_mutex_);
+    published_ = ref;
+  }
+  reference_ = std::move(ref);
+  tracker_->SetReference(reference_->pyramid.get(), camera_, reference_->points);
+  first_rmse_after_keyframe_ = 0.0;
+}
+
 std::vector<ReferencePoint> System::PointsSeenIn(int kf) {
   std::vector<int> ids;
   for (int pid = 0; pid < map_.NumPoints(); ++pid) {
@@ -109,11 +119,7 @@ bool System::Relocalise(const ImagePyramid& pyramid, const FrameSignature& signa
     for (const SE3d& base : {still, half * still, moved * still}) {
       guesses.push_back(base);
       for (double angle : {0.05, -0.05})
-        for (int axis = 0; axis < 2; ++axis) {
-          Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
-          xi(3 + axis) = angle;
-          guesses.push_back(SE3d::Exp(xi) * base);
-        }
+        for (int axis = 0; axis < 2; ++axis) guesses.push_back(internal::RotationAbout(axis, angle) * base);
     }
     if (k != ref) guesses.push_back(SE3d());
     double alpha, beta;
@@ -140,15 +146,7 @@ bool System::Relocalise(const ImagePyramid& pyramid, const FrameSignature& signa
   }
   // The keyframe becomes the reference of both sides: the mapping side is idle, and the next
   // keyframe it maps is made relative to it.
-  if (best->keyframe != ref) {
-    PublishReference(best->keyframe, std::move(best->points), best->pyramid);
-    {
-      std::lock_guard<std::mutex> lock(reference_mutex_);
-      reference_ = published_;
-    }
-    tracker_->SetReference(reference_->pyramid.get(), camera_, reference_->points);
-    first_rmse_after_keyframe_ = 0.0;
-  }
+  if (best->keyframe != ref) AdoptReference(MakeReference(best->keyframe, std::move(best->points), best->pyramid));
   *result = best->result;
   return true;
 }

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/tracking/frame_tracker.h"
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/run/defect_checks.h"
+
+#include <algorithm>
+#include <set>
+#include <utility>
+
+#include <gtest/gtest.h>
+
+#include "dsm/io/trajectory_io.h"
+
+namespace dsm::testing {
+
+std::set<int64_t> TumStamps(const std::filesystem::path& file) {
+  const Trajectory t = ReadTrajectory(file, TrajectoryFormat::kTum);
+  return {t.stamps_ns.begin(), t.stamps_ns.end()};
+}
+
+namespace {
+
+// Whether the frame of timestamp t is in `stamps` (within 1 ms: TUM files store seconds).
+bool Holds(const std::set<int64_t>& stamps, int64_t t) {
+  const auto it = stamps.lower_bound(t - 1000000);
+  return it != stamps.end() && *it <= t + 1000000;
+}
+
+}  // namespace
+
+void ExpectDefectsCostTheirFramesOnly(const Dataset& dataset, const RunSummary& s, const std::filesystem::path& out,
+                                      const std::vector<DefectRange>& defects, const std::string& name) {
+  EXPECT_EQ(s.stats["maps"].size(), 1u) << name;
+  EXPECT_EQ(s.stats["relocalisations"].get<size_t>(), defects.size()) << name;
+  const auto episodes = s.stats["lost_episodes"].get<std::vector<std::pair<int, int>>>();
+  ASSERT_EQ(episodes.size(), defects.size()) << name;
+  const std::set<int64_t> tracked = TumStamps(out / "frames.tum"), keyframes = TumStamps(out / "keyframes.tum");
+  for (size_t e = 0; e < defects.size(); ++e) {
+    const DefectRange& d = defects[e];
+    const int edge = d.cover ? 2 : 0;
+    EXPECT_GE(episodes[e].first, d.first) << name;
+    EXPECT_LE(episodes[e].first, d.first + edge) << name;
+    EXPECT_GE(episodes[e].second, d.last - edge) << name;
+    EXPECT_LE(episodes[e].second, d.last + 5) << name;
+    for (int i = d.first; i <= d.last; ++i) {
+      const int into = std::min(i - d.first, d.last - i);
+      if (into >= edge) {
+        EXPECT_FALSE(Holds(tracked, dataset.frames[i].t_ns)) << name << " frame " << i;
+      }
+      if (into >= edge / 2) {
+        EXPECT_FALSE(Holds(keyframes, dataset.frames[i].t_ns)) << name << " frame " << i;
+      }
+    }
+  }
+  for (int i = episodes.back().second + 1; i < static_cast<int>(dataset.size()); ++i)
+    EXPECT_TRUE(Holds(tracked, dataset.frames[i].t_ns)) << name << " frame " << i;
+}
+
+}  // namespace dsm::testing
