@@ -3,6 +3,7 @@
 // (files, calibration, options), 1 an unexpected internal error.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <map>
 
 #include "apps/commands.h"
@@ -34,6 +35,10 @@ int main(int argc, char** argv) {
       if (sub->parsed()) return run();
     }
   } catch (const dsm::InputError& e) {
+    std::fprintf(stderr, "dsm: error: %s\n", e.what());
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path of the user's that the file system refuses (too long, no permission, ...).
     std::fprintf(stderr, "dsm: error: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {

@@ -2,23 +2,22 @@
 # Set-up, build and the whole test suite. Extra arguments go to ctest, e.g.
 #   ./scripts/test.sh -L slow      only the long end-to-end tests
 #   ./scripts/test.sh -LE slow     everything else
-#   ./scripts/test.sh --sanitize   AddressSanitizer + UndefinedBehaviorSanitizer: builds build-asan/
-#                                  (DSM_ASAN_DIR), runs the unit tests and one short end-to-end run
-#                                  of a rendered scene with defects (lost frames, relocalisation);
-#                                  fails on any report
+#   ./scripts/test.sh --sanitize   AddressSanitizer + UndefinedBehaviorSanitizer (clang): builds
+#                                  build-asan/ (DSM_ASAN_DIR; scripts/asan_tree.sh), runs the unit
+#                                  tests and one short end-to-end run of a rendered scene with
+#                                  defects (lost frames, relocalisation); fails on any report
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
 if [ "${1:-}" = "--sanitize" ]; then
   shift
-  ASAN_DIR="${DSM_ASAN_DIR:-build-asan}"
-  if [ ! -f "$ASAN_DIR/build.ninja" ]; then
-    cmake -S . -B "$ASAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDSM_SANITIZE=address,undefined \
-      -DDSM_BUILD_BENCHMARKS=OFF >/dev/null
-  fi
-  cmake --build "$ASAN_DIR" -j "${DSM_JOBS:-$(nproc)}"
-  export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1" UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
-  (cd "$ASAN_DIR" && ctest --output-on-failure -j "${DSM_JOBS:-$(nproc)}" -LE slow "$@")
+  source scripts/asan_tree.sh
+  asan_configure
+  # The programs of the unit tests (ctest name a/b is target a_b) and dsm; not the long end-to-end
+  # tests' programs.
+  unit=$(cd "$ASAN_DIR" && ctest -N -LE slow | sed -n 's/.*Test *#[0-9]*: //p' | tr / _)
+  asan_build dsm $unit
+  (cd "$ASAN_DIR" && ctest --output-on-failure -j "$ASAN_JOBS" -LE slow "$@")
   work="$(mktemp -d)"
   trap 'rm -rf "$work"' EXIT
   "$ASAN_DIR/bin/dsm" synth --scene loop --frames 160 --out "$work/loop" \

@@ -4,9 +4,8 @@
 #include <fstream>
 #include <set>
 
-#include <yaml-cpp/yaml.h>
-
 #include "dsm/io/image_io.h"
+#include "dsm/io/yaml_file.h"
 #include "dsm/util/check.h"
 #include "dsm/util/parse.h"
 
@@ -16,41 +15,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
-YAML::Node LoadYaml(const fs::path& path) {
-  if (!fs::is_regular_file(path)) throw InputError(path.string() + ": file not found");
-  // OpenCV-style files start with a "%YAML:1.0" directive that yaml-cpp rejects: drop it.
-  std::string text;
-  for (const auto& line : ReadLines(path)) {
-    if (line.rfind("%YAML", 0) == 0) continue;
-    text += line + "\n";
-  }
-  try {
-    YAML::Node node = YAML::Load(text);
-    if (!node.IsMap()) throw InputError(path.string() + ": expected a YAML mapping");
-    return node;
-  } catch (const YAML::Exception& e) {
-    throw InputError(path.string() + ": YAML error: " + e.what());
-  }
-}
-
-template <typename T>
-T Get(const YAML::Node& node, const std::string& key, const fs::path& path) {
-  const YAML::Node value = node[key];
-  if (!value) throw InputError(path.string() + ": missing key '" + key + "'");
-  try {
-    return value.as<T>();
-  } catch (const YAML::Exception&) {
-    throw InputError(path.string() + ": key '" + key + "' has the wrong type");
-  }
+YAML::Node LoadYamlMapping(const fs::path& path) {
+  const YAML::Node node = LoadYamlFile(path);
+  if (!node.IsMap()) throw InputError(path.string() + ": expected a YAML mapping");
+  return node;
 }
 
 }  // namespace
 
 CameraYaml ReadCameraYaml(const fs::path& path) {
-  const YAML::Node node = LoadYaml(path);
+  const YAML::Node node = LoadYamlMapping(path);
   static const std::set<std::string> kKeys{"model", "width", "height", "intrinsics", "distortion", "rate_hz"};
   for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = KeyName(kv.first, path);
     if (!kKeys.count(key)) throw InputError(path.string() + ": unknown key '" + key + "'");
   }
   CameraYaml out;
@@ -83,7 +60,7 @@ void WriteCameraYaml(const fs::path& path, const CameraYaml& c) {
 }
 
 EurocSensor ReadEurocSensorYaml(const fs::path& path) {
-  const YAML::Node node = LoadYaml(path);
+  const YAML::Node node = LoadYamlMapping(path);
   EurocSensor out;
   CameraCalibration& cam = out.camera;
   const auto k = Get<std::vector<double>>(node, "intrinsics", path);

@@ -49,6 +49,10 @@ TEST(CameraYaml, MalformedFilesGiveClearErrors) {
   WriteText(dir / "syntax.yaml", "model: [pinhole\n");
   EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "syntax.yaml"); }).find("syntax.yaml"), std::string::npos);
   EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "none.yaml"); }).find("not found"), std::string::npos);
+  // A key that is itself a sequence (found by fuzz/folder_dataset).
+  WriteText(dir / "key.yaml", good + "[rate_hz]: 20\n");
+  EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "key.yaml"); }).find("line 5: a key must be a plain name"),
+            std::string::npos);
 }
 
 TEST(TumMonoCamera, RelativeFovCalibration) {

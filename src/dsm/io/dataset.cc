@@ -33,7 +33,8 @@ Image<float> Dataset::LoadDepth(size_t i) const {
   DSM_CHECK(i < frames.size(), "frame index out of range");
   if (!HasDepth()) throw InputError(root.string() + ": the dataset has no depth");
   const fs::path path = depth_dir / (fs::path(frames[i].image).stem().string() + ".tiff");
-  if (!fs::exists(path)) throw InputError(path.string() + ": depth file missing");
+  std::error_code error;
+  if (!fs::exists(path, error)) throw InputError(path.string() + ": depth file missing");
   Image<float> depth = ReadGrayFloat(path);
   if (depth.width() != camera.width || depth.height() != camera.height)
     throw InputError(path.string() + ": depth size differs from the calibration");

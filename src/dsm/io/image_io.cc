@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/io/image_io.h"
 
+#include <algorithm>
 #include <cstring>
+#include <initializer_list>
 #include <fstream>
 
 #include <opencv2/imgcodecs.hpp>
@@ -47,9 +49,32 @@ void Write(const std::filesystem::path& path, const cv::Mat& m) {
 
 }  // namespace
 
+// The formats a dataset's images may be in, by their first bytes: PNG, JPEG, PGM / PPM, BMP, TIFF.
+// Anything else is refused before OpenCV tries its other decoders (HDR, DICOM, ...), which print
+// their own errors and may believe a header asking for gigabytes.
+bool IsImageFormat(const std::vector<uint8_t>& b) {
+  const auto starts = [&](std::initializer_list<uint8_t> sig) {
+    return b.size() >= sig.size() && std::equal(sig.begin(), sig.end(), b.begin());
+  };
+  return starts({0x89, 'P', 'N', 'G'}) || starts({0xFF, 0xD8}) || starts({'P', '2'}) || starts({'P', '3'}) ||
+         starts({'P', '5'}) || starts({'P', '6'}) || starts({'B', 'M'}) || starts({'I', 'I', 42, 0}) ||
+         starts({'M', 'M', 0, 42});
+}
+
 Image<uint8_t> DecodeGray8(const std::vector<uint8_t>& bytes, const std::string& source) {
   const std::string damage = CheckEncodedImage(bytes);
   if (!damage.empty()) throw InputError(source + ": cannot decode the image (" + damage + ")");
+  if (!IsImageFormat(bytes)) throw InputError(source + ": not a PNG, JPEG, PGM/PPM, BMP or TIFF image");
+  constexpr uint32_t kMaxSide = 16384;  // As CameraCalibration::Validate.
+  if (bytes[0] == 0x89 && bytes.size() >= 24) {
+    // PNG: IHDR is the first chunk; width and height are its first two big-endian words.
+    const auto word = [&](size_t i) {
+      return (uint32_t{bytes[i]} << 24) | (uint32_t{bytes[i + 1]} << 16) | (uint32_t{bytes[i + 2]} << 8) | bytes[i + 3];
+    };
+    if (word(16) > kMaxSide || word(20) > kMaxSide)
+      throw InputError(source + ": the image claims " + std::to_string(word(16)) + "x" + std::to_string(word(20)) +
+                       " pixels (at most " + std::to_string(kMaxSide) + " a side)");
+  }
   cv::Mat m;
   try {
     m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
@@ -60,9 +85,14 @@ Image<uint8_t> DecodeGray8(const std::vector<uint8_t>& bytes, const std::string&
 }
 
 Image<uint8_t> ReadGray8(const std::filesystem::path& path) {
+  // A folder opens as a stream but fails on the first read (with an exception): check first, without
+  // throwing on names the file system refuses (too long, ...).
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) throw InputError(path.string() + ": no such image file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot open the image");
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw InputError(path.string() + ": read error");
   return DecodeGray8(bytes, path.string());
 }
 

@@ -4,8 +4,7 @@
 #include <functional>
 #include <map>
 
-#include <yaml-cpp/yaml.h>
-
+#include "dsm/io/yaml_file.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -120,21 +119,15 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
 }  // namespace
 
 void ApplyOptionsYaml(const std::filesystem::path& path, SystemOptions* options) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path.string() + ": file not found");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path.string());
-  } catch (const YAML::Exception& e) {
-    throw InputError(path.string() + ": YAML error: " + e.what());
-  }
+  const YAML::Node root = LoadYamlFile(path);
   if (root.IsNull()) return;
   if (!root.IsMap()) throw InputError(path.string() + ": expected a mapping of sections");
   const auto setters = Setters(options);
   for (const auto& section : root) {
-    const std::string name = section.first.as<std::string>();
+    const std::string name = KeyName(section.first, path);
     if (!section.second.IsMap()) throw InputError(path.string() + ": section '" + name + "' must be a mapping");
     for (const auto& kv : section.second) {
-      const std::string key = name + "." + kv.first.as<std::string>();
+      const std::string key = name + "." + KeyName(kv.first, path);
       const auto it = setters.find(key);
       if (it == setters.end()) throw InputError(path.string() + ": unknown key '" + key + "'");
       try {

@@ -83,20 +83,22 @@ int64_t ParseTimestampNs(std::string_view field, int64_t unit_ns, const std::str
     const auto [ptr, ec] = std::from_chars(int_part.data(), int_part.data() + int_part.size(), whole);
     if (ec != std::errc() || ptr != int_part.data() + int_part.size()) return fail();
   }
-  if (whole > std::numeric_limits<int64_t>::max() / unit_ns) return fail();
-  int64_t ns = whole * unit_ns;
-  // Fraction: digits scaled by unit/10, unit/100, ...; digits below 1 ns are rounded.
+  // Fraction: digits scaled by unit/10, unit/100, ...; digits below 1 ns are rounded (so 0 <= frac <= unit).
+  int64_t frac = 0;
   int64_t scale = unit_ns;
   for (size_t i = 0; i < frac_part.size(); ++i) {
     const int digit = frac_part[i] - '0';
     if (scale >= 10) {
       scale /= 10;
-      ns += digit * scale;
+      frac += digit * scale;
     } else {
-      if (digit >= 5) ns += 1;
+      if (digit >= 5) frac += 1;
       break;
     }
   }
+  // whole * unit + frac must fit: whole <= (max - frac) / unit.
+  if (whole > (std::numeric_limits<int64_t>::max() - frac) / unit_ns) return fail();
+  const int64_t ns = whole * unit_ns + frac;
   return negative ? -ns : ns;
 }
 
