@@ -2,6 +2,7 @@
 #include "dsm/io/image_io.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <initializer_list>
 #include <fstream>
@@ -56,9 +57,12 @@ bool IsImageFormat(const std::vector<uint8_t>& b) {
   const auto starts = [&](std::initializer_list<uint8_t> sig) {
     return b.size() >= sig.size() && std::equal(sig.begin(), sig.end(), b.begin());
   };
-  return starts({0x89, 'P', 'N', 'G'}) || starts({0xFF, 0xD8}) || starts({'P', '2'}) || starts({'P', '3'}) ||
-         starts({'P', '5'}) || starts({'P', '6'}) || starts({'B', 'M'}) || starts({'I', 'I', 42, 0}) ||
-         starts({'M', 'M', 0, 42});
+  // Whole signatures, as OpenCV's own decoders check them: a near miss would fall through to the
+  // next decoder that claims the bytes (GDCM asserts on some).
+  const bool pnm = b.size() >= 3 && b[0] == 'P' && (b[1] == '2' || b[1] == '3' || b[1] == '5' || b[1] == '6') &&
+                   std::isspace(b[2]);
+  return starts({0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A}) || starts({0xFF, 0xD8, 0xFF}) || pnm ||
+         starts({'B', 'M'}) || starts({'I', 'I', 42, 0}) || starts({'M', 'M', 0, 42});
 }
 
 Image<uint8_t> DecodeGray8(const std::vector<uint8_t>& bytes, const std::string& source) {
