@@ -11,12 +11,13 @@
 
 namespace dsm {
 
-// Decodes an encoded image (PNG, JPEG, ...) to 8-bit grey: colour is converted, 16 bit scaled down.
-// Throws InputError naming `source` when it cannot be decoded (damaged files: encoded_image_check.h).
+// Decodes an encoded image (PNG, JPEG, PGM/PPM, BMP or TIFF) to 8-bit grey: colour is converted, 16 bit
+// scaled down. Throws InputError naming `source` when it cannot be decoded: damaged files
+// (encoded_image_check.h), other formats and sizes out of bounds (image_header.h), decoder failures.
 Image<uint8_t> DecodeGray8(const std::vector<uint8_t>& bytes, const std::string& source);
 Image<uint8_t> ReadGray8(const std::filesystem::path& path);
 
-// Reads any grey image as float values (8 or 16 bit, or 32-bit float TIFF).
+// Reads an image as grey float values (8 or 16 bit, or 32-bit float TIFF), with DecodeGray8's checks.
 Image<float> ReadGrayFloat(const std::filesystem::path& path);
 
 void WriteGray8(const std::filesystem::path& path, const Image<uint8_t>& image);
