@@ -61,3 +61,15 @@ function(dsm_benchmark name)
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} benchmark::benchmark)
   dsm_target_flags(${target})
 endfunction()
+
+# dsm_test_costs(<test> <seconds> [<test> <seconds>...])
+# What a test takes, measured once (Release, one core): a parallel ctest starts the costly tests
+# first, so that no long test runs alone at the end. A clean clone has no timing history to go by.
+function(dsm_test_costs)
+  while(ARGN)
+    list(POP_FRONT ARGN test cost)
+    if(TEST ${test})
+      set_tests_properties(${test} PROPERTIES COST ${cost})
+    endif()
+  endwhile()
+endfunction()
