@@ -62,6 +62,8 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["keyframe.weight_brightness"] = Set(&o->keyframe.weight_brightness);
   s["keyframe.residual_growth"] = Set(&o->keyframe.residual_growth);
   s["quality.min_texture_ratio"] = Set(&o->quality.min_texture_ratio);
+  s["quality.min_relocalisation_texture_ratio"] = Set(&o->quality.min_relocalisation_texture_ratio);
+  s["quality.min_turn_deg"] = Set(&o->quality.min_turn_deg);
   s["quality.max_residual_ratio"] = Set(&o->quality.max_residual_ratio);
   s["quality.min_inlier_ratio"] = Set(&o->quality.min_inlier_ratio);
   s["quality.max_rotation_deg"] = Set(&o->quality.max_rotation_deg);

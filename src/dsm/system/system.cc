@@ -108,9 +108,14 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     }
   }
   if (reason.empty() && lost_) {
-    Tentative before = SaveTentative(index);
-    report.relocalised = Relocalise(*pyramid, signature, exposure, &result, &reason);
-    if (report.relocalised) tentative_ = std::move(before);
+    // Only a frame with the usual texture may re-anchor the camera: half of it hidden by a hand
+    // sliding off the lens, any pose fits the rest as well as the right one.
+    reason = quality_.CheckRelocalisationImage(signature.texture);
+    if (reason.empty()) {
+      Tentative before = SaveTentative(index);
+      report.relocalised = Relocalise(*pyramid, signature, exposure, &result, &reason);
+      if (report.relocalised) tentative_ = std::move(before);
+    }
     if (!report.relocalised) ++failed_relocalisations_;
   }
   if (!reason.empty() && tentative_) WithdrawRelocalisation();

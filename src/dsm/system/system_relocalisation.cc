@@ -66,7 +66,6 @@ bool System::Relocalise(const ImagePyramid& pyramid, const FrameSignature& signa
       internal::FrameBrightness(map_.keyframe(ref).affine, map_.keyframe(ref).exposure, last_alpha_, last_beta_,
                                 last_exposure_);
   const SE3d moved = internal::Scale(velocity_, lost_in_a_row_ + 1.0);
-  const double speed = velocity_.Translation().norm();
   const SE3d half = internal::Scale(velocity_, 0.5 * (lost_in_a_row_ + 1.0));
   // Coarse to fine over the whole pyramid: the frame may be far from every keyframe.
   TrackerOptions tracker_options = options_.tracker;
@@ -126,13 +125,15 @@ bool System::Relocalise(const ImagePyramid& pyramid, const FrameSignature& signa
     internal::RelativeBrightness(last_brightness, exposure, kf.affine, kf.exposure, &alpha, &beta);
     std::vector<std::pair<double, int>> ranked;
     for (size_t g = 0; g < guesses.size(); ++g)
-      ranked.emplace_back(tracker.CoarseEnergy(pyramid, guesses[g], alpha, beta), static_cast<int>(g));
+      ranked.emplace_back(tracker.CoarseEnergyOverAll(pyramid, guesses[g], alpha, beta), static_cast<int>(g));
     std::stable_sort(ranked.begin(), ranked.end());
-    for (int attempt = 0; attempt < 2; ++attempt) {
+    const int attempts = std::getenv("DSM_ALL") ? static_cast<int>(ranked.size()) : 2;
+    for (int attempt = 0; attempt < attempts; ++attempt) {
       const TrackResult r = tracker.Track(pyramid, guesses[ranked[attempt].second], alpha, beta);
       const SE3d step = r.frame_from_keyframe * kf.cam_from_world * last_from_world.Inverse();
       std::string fail = quality_.CheckTracking(r, step, lost_in_a_row_ + 1, tracker.MeanIdepth());
-      if (fail.empty()) fail = quality_.CheckJump(step, lost_in_a_row_ + 1, speed, tracker.MeanIdepth());
+      if (fail.empty()) fail = quality_.CheckJump(step, lost_in_a_row_ + 1, velocity_, tracker.MeanIdepth());
+      if (std::getenv("DSM_RELDBG")) std::fprintf(stderr, "RELOC kf %d (ref %d) guess %d/%zu coarse %.1f p50 %.2f inl %.2f step %.3f rot %.2f deg: %s\n", k, ref, ranked[attempt].second, guesses.size(), ranked[attempt].first, r.residual_p50, r.inlier_ratio, step.Translation().norm(), step.So3().Log().norm()*57.3, fail.c_str());
       if (!fail.empty()) {
         why = fail;
         continue;

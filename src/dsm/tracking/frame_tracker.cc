@@ -207,6 +207,17 @@ double FrameTracker::CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, 
   return e.Mean();
 }
 
+double FrameTracker::CoarseEnergyOverAll(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const {
+  const int l = static_cast<int>(levels_.size()) - 1;
+  const size_t n = levels_[l].qx.size();
+  if (n == 0) return std::numeric_limits<double>::infinity();
+  Residuals res;
+  Evaluate(l, frame, guess, alpha, beta, &res);
+  const ErrorModel model = DefaultErrorModel(options_.robust);
+  const Energy e = SumEnergy(l, res, model);
+  return (e.energy + static_cast<double>(n - e.valid) * model.Energy(model.inlier_threshold)) / n;
+}
+
 TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess,
                                 double beta_guess) const {
   TrackResult result;

@@ -95,6 +95,10 @@ class FrameTracker {
 
   // Energy of the guess at the coarsest level (to rank alternative guesses cheaply).
   double CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const;
+  // As CoarseEnergy, but the mean over all points: one that leaves the frame costs as much as a
+  // residual at the inlier threshold. Ranks guesses that may turn much of the map out of view
+  // (relocalisation after the camera moved on), where CoarseEnergy gives up below half.
+  double CoarseEnergyOverAll(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const;
 
  private:
   using Vector8f = Eigen::Matrix<float, 8, 1>;

@@ -27,6 +27,8 @@ double MedianOf(const std::deque<double>& values) {
 
 void QualityOptions::Validate() const {
   if (!(min_texture_ratio >= 0.0 && min_texture_ratio < 1.0)) throw InputError("quality.min_texture_ratio must be in [0, 1)");
+  if (!(min_relocalisation_texture_ratio >= min_texture_ratio && min_relocalisation_texture_ratio <= 1.0))
+    throw InputError("quality.min_relocalisation_texture_ratio must be in [quality.min_texture_ratio, 1]");
   if (!(max_residual_ratio > 1.0)) throw InputError("quality.max_residual_ratio must be above 1");
   if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio < 1.0)) throw InputError("quality.min_inlier_ratio must be in [0, 1)");
   if (!(max_rotation_deg > 0.0 && max_rotation_deg <= 180.0)) throw InputError("quality.max_rotation_deg must be in (0, 180]");
@@ -34,6 +36,7 @@ void QualityOptions::Validate() const {
   if (history < 1) throw InputError("quality.history must be at least 1");
   if (!(max_speed_ratio > 0.0)) throw InputError("quality.max_speed_ratio must be positive");
   if (!(min_speed >= 0.0)) throw InputError("quality.min_speed must be non-negative");
+  if (!(min_turn_deg >= 0.0)) throw InputError("quality.min_turn_deg must be non-negative");
 }
 
 TrackingQuality::TrackingQuality(const QualityOptions& options) : options_(options) { options_.Validate(); }
@@ -46,6 +49,13 @@ std::string TrackingQuality::CheckImage(double texture) const {
   const double level = TextureLevel();
   if (static_cast<int>(texture_.size()) >= options_.history && texture < options_.min_texture_ratio * level)
     return Format("too little texture (%.2f, usual %.2f)", texture, level);
+  return {};
+}
+
+std::string TrackingQuality::CheckRelocalisationImage(double texture) const {
+  const double level = TextureLevel();
+  if (static_cast<int>(texture_.size()) >= options_.history && texture < options_.min_relocalisation_texture_ratio * level)
+    return Format("too little texture to relocalise (%.2f, usual %.2f)", texture, level);
   return {};
 }
 
@@ -64,10 +74,17 @@ std::string TrackingQuality::CheckTracking(const TrackResult& r, const SE3d& ste
   return {};
 }
 
-std::string TrackingQuality::CheckJump(const SE3d& step, int frames, double speed, double mean_idepth) const {
-  const double reach = std::max(frames, 1) * (options_.max_speed_ratio * speed + options_.min_speed / mean_idepth);
+std::string TrackingQuality::CheckJump(const SE3d& step, int frames, const SE3d& velocity, double mean_idepth) const {
+  const int n = std::max(frames, 1);
+  const double reach = n * (options_.max_speed_ratio * velocity.Translation().norm() + options_.min_speed / mean_idepth);
   const double moved = step.Translation().norm();
   if (!(moved <= reach)) return Format("implausible jump (%.2g, reach %.2g)", moved, reach);
+  // The turn from the constant-velocity prediction, velocity^frames.
+  const SO3d predicted = SO3d::Exp(velocity.So3().Log() * static_cast<double>(n));
+  const double off_deg = (step.So3() * predicted.Inverse()).Log().norm() * 180.0 / M_PI;
+  const double turn_reach = n * options_.min_turn_deg;
+  if (!(off_deg <= turn_reach))
+    return Format("implausible turn (%.0f deg off the prediction, reach %.0f deg)", off_deg, turn_reach);
   return {};
 }
 

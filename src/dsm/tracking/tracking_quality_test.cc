@@ -53,9 +53,29 @@ TEST(TrackingQuality, JudgesAgainstTheRunningLevels) {
 TEST(TrackingQuality, BoundsTheJumpOfARelocalisation) {
   TrackingQuality q{QualityOptions{}};
   // Reach per frame: 2 x speed + 0.02 x mean depth; 10 frames at speed 0.01, depth 1: 0.4.
-  EXPECT_EQ(q.CheckJump(Turned(0.0, 0.39), 10, 0.01, 1.0), "");
-  EXPECT_NE(q.CheckJump(Turned(0.0, 0.41), 10, 0.01, 1.0).find("implausible jump"), std::string::npos);
-  EXPECT_EQ(q.CheckJump(Turned(0.0, 0.41), 11, 0.01, 1.0), "");
+  EXPECT_EQ(q.CheckJump(Turned(0.0, 0.39), 10, Turned(0.0, 0.01), 1.0), "");
+  EXPECT_NE(q.CheckJump(Turned(0.0, 0.41), 10, Turned(0.0, 0.01), 1.0).find("implausible jump"), std::string::npos);
+  EXPECT_EQ(q.CheckJump(Turned(0.0, 0.41), 11, Turned(0.0, 0.01), 1.0), "");
+  // The turn: at most 2.5 deg per frame off the constant-velocity prediction; 15 frames turning
+  // 1.5 deg each are predicted at 22.5 deg, give or take 37.5.
+  EXPECT_EQ(q.CheckJump(Turned(59.0), 15, Turned(1.5), 1.0), "");
+  EXPECT_EQ(q.CheckJump(Turned(-14.0), 15, Turned(1.5), 1.0), "");
+  EXPECT_NE(q.CheckJump(Turned(61.0), 15, Turned(1.5), 1.0).find("implausible turn (38 deg off the prediction, reach 38 deg)"),
+            std::string::npos) << q.CheckJump(Turned(61.0), 15, Turned(1.5), 1.0);
+  EXPECT_NE(q.CheckJump(Turned(-16.0), 15, Turned(1.5), 1.0).find("implausible turn"), std::string::npos);
+}
+
+TEST(TrackingQuality, OnlyAFrameWithTheUsualTextureRelocalises) {
+  QualityOptions o;
+  o.history = 3;
+  TrackingQuality q(o);
+  EXPECT_EQ(q.CheckRelocalisationImage(1.0), "");  // No level yet.
+  for (int i = 0; i < 3; ++i) q.Trust(1.0, 10.0);
+  EXPECT_EQ(q.CheckImage(5.0), "");
+  EXPECT_EQ(q.CheckRelocalisationImage(6.9), "too little texture to relocalise (6.90, usual 10.00)");
+  EXPECT_EQ(q.CheckRelocalisationImage(7.1), "");
+  o.min_relocalisation_texture_ratio = 0.3;  // Below min_texture_ratio.
+  EXPECT_THROW(o.Validate(), InputError);
 }
 
 TEST(TrackingQuality, RestartsTheResidualLevelAtARelocalisedFrame) {
