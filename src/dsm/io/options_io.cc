@@ -63,6 +63,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["keyframe.residual_growth"] = Set(&o->keyframe.residual_growth);
   s["quality.min_texture_ratio"] = Set(&o->quality.min_texture_ratio);
   s["quality.min_relocalisation_texture_ratio"] = Set(&o->quality.min_relocalisation_texture_ratio);
+  s["quality.min_keyframe_texture_step"] = Set(&o->quality.min_keyframe_texture_step);
   s["quality.min_turn_deg"] = Set(&o->quality.min_turn_deg);
   s["quality.max_residual_ratio"] = Set(&o->quality.max_residual_ratio);
   s["quality.min_inlier_ratio"] = Set(&o->quality.min_inlier_ratio);

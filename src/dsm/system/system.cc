@@ -96,6 +96,8 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   // until the next frame, tracked from it, passes the test as well; otherwise it is withdrawn and
   // that frame is tried against the map in turn.
   const FrameSignature signature = ComputeSignature(*pyramid);
+  const double previous_texture = previous_texture_;
+  previous_texture_ = signature.texture;
   std::string reason = quality_.CheckImage(signature.texture);
   TrackResult result;
   if (reason.empty() && !lost_) {
@@ -160,7 +162,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   job.alpha = result.alpha;
   job.beta = result.beta;
   want_keyframe_ = false;
-  if (ShouldCreateKeyframe(scores, options_.keyframe)) {
+  if (ShouldCreateKeyframe(scores, options_.keyframe) && quality_.CheckKeyframeImage(signature.texture, previous_texture)) {
     if (mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
       want_keyframe_ = true;  // The next frame waits for the pending keyframe (or not) and decides again.
     } else {

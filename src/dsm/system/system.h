@@ -284,6 +284,7 @@ class System {
   SE3d last_frame_from_reference_, velocity_;  // velocity: last frame motion (frame_from_previous)
   double last_alpha_ = 0.0, last_beta_ = 0.0;  // Brightness of the last frame relative to the reference.
   double last_exposure_ = 1.0;
+  double previous_texture_ = 0.0;  // FrameSignature::texture of the frame before, whatever became of it.
   double first_rmse_after_keyframe_ = 0.0;
   TrackingQuality quality_;
   bool lost_ = false;

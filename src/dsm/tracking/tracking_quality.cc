@@ -29,6 +29,8 @@ void QualityOptions::Validate() const {
   if (!(min_texture_ratio >= 0.0 && min_texture_ratio < 1.0)) throw InputError("quality.min_texture_ratio must be in [0, 1)");
   if (!(min_relocalisation_texture_ratio >= min_texture_ratio && min_relocalisation_texture_ratio <= 1.0))
     throw InputError("quality.min_relocalisation_texture_ratio must be in [quality.min_texture_ratio, 1]");
+  if (!(min_keyframe_texture_step >= 0.0 && min_keyframe_texture_step <= 1.0))
+    throw InputError("quality.min_keyframe_texture_step must be in [0, 1]");
   if (!(max_residual_ratio > 1.0)) throw InputError("quality.max_residual_ratio must be above 1");
   if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio < 1.0)) throw InputError("quality.min_inlier_ratio must be in [0, 1)");
   if (!(max_rotation_deg > 0.0 && max_rotation_deg <= 180.0)) throw InputError("quality.max_rotation_deg must be in (0, 180]");
@@ -50,6 +52,10 @@ std::string TrackingQuality::CheckImage(double texture) const {
   if (static_cast<int>(texture_.size()) >= options_.history && texture < options_.min_texture_ratio * level)
     return Format("too little texture (%.2f, usual %.2f)", texture, level);
   return {};
+}
+
+bool TrackingQuality::CheckKeyframeImage(double texture, double previous) const {
+  return texture >= options_.min_keyframe_texture_step * previous;
 }
 
 std::string TrackingQuality::CheckRelocalisationImage(double texture) const {

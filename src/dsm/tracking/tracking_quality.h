@@ -10,6 +10,9 @@
 //            half over the lens) is not tried against the map: any pose fits the rest as well.
 //            Measured texture / level while tracking: shared EuRoC frames >= 0.83, room >= 0.90;
 //            a hand over 27% of the view 0.81, over 55% 0.53.
+//   keyframe: a tracked frame whose texture fell below min_keyframe_texture_step x the frame
+//            before's makes no keyframe (a hand sliding over the lens, a blurred frame); the next
+//            frame decides again, so a texture that falls for good stops none.
 //   tracking: median |residual| > max_residual_ratio x its level   (noise, a wrong minimum)
 //             inlier_ratio < min_inlier_ratio                      (most of the view changed)
 //             rotation of the step from the last trusted frame > max_rotation_deg per frame
@@ -42,6 +45,7 @@ namespace dsm {
 struct QualityOptions {
   double min_texture_ratio = 0.35;
   double min_relocalisation_texture_ratio = 0.7;
+  double min_keyframe_texture_step = 0.8;
   double max_residual_ratio = 4.0;
   double min_inlier_ratio = 0.5;
   double max_rotation_deg = 25.0;
@@ -60,6 +64,8 @@ class TrackingQuality {
 
   // Empty when a frame of this texture (FrameSignature::texture) may be tracked, else why not.
   std::string CheckImage(double texture) const;
+  // Whether a tracked frame of this texture may become a keyframe after a frame of `previous`.
+  bool CheckKeyframeImage(double texture, double previous) const;
   // Empty when a lost frame of this texture may be tried against the map, else why not.
   std::string CheckRelocalisationImage(double texture) const;
   // Empty when the tracked frame can be trusted, else why not. `step`: its motion from the last

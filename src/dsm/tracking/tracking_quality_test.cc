@@ -78,6 +78,14 @@ TEST(TrackingQuality, OnlyAFrameWithTheUsualTextureRelocalises) {
   EXPECT_THROW(o.Validate(), InputError);
 }
 
+TEST(TrackingQuality, NoKeyframeWhereTheTextureJustFell) {
+  TrackingQuality q{QualityOptions{}};
+  EXPECT_TRUE(q.CheckKeyframeImage(8.1, 10.0));
+  EXPECT_FALSE(q.CheckKeyframeImage(7.9, 10.0));
+  EXPECT_TRUE(q.CheckKeyframeImage(7.9, 7.9));  // It fell for good: the next frame may.
+  EXPECT_TRUE(q.CheckKeyframeImage(1.0, 0.0));  // The first frame.
+}
+
 TEST(TrackingQuality, RestartsTheResidualLevelAtARelocalisedFrame) {
   QualityOptions o;
   o.history = 3;
