@@ -79,24 +79,6 @@ void Layout::Restore(const Choice& choice) const {
   WriteFile(root_ / files_[choice.file].path, files_[choice.file].valid);
 }
 
-void CheckCamera(const CameraCalibration& camera) {
-  try {
-    camera.Validate("accepted calibration");
-  } catch (const InputError& e) {
-    DSM_CHECK(false, std::string("a reader accepted a calibration that fails Validate: ") + e.what());
-  }
-  if (static_cast<int64_t>(camera.width) * camera.height > 500000) return;
-  try {
-    // As `dsm run` builds it (5 pyramid levels: sizes a multiple of 16).
-    const Undistorter undistorter(camera, {UndistortMode::kCrop, 16});
-    const PinholeCamera& out = undistorter.output();
-    DSM_CHECK(out.width > 0 && out.height > 0 && std::isfinite(out.fx) && std::isfinite(out.fy) && out.fx > 0 &&
-                  out.fy > 0 && std::isfinite(out.cx) && std::isfinite(out.cy),
-              "the undistorter made an implausible output camera");
-  } catch (const InputError&) {
-  }
-}
-
 void CheckTrajectory(const Trajectory& trajectory) {
   DSM_CHECK(!trajectory.empty(), "a reader accepted a trajectory without poses");
   DSM_CHECK(!trajectory.HasStamps() || trajectory.stamps_ns.size() == trajectory.poses.size(),
@@ -108,7 +90,11 @@ void CheckTrajectory(const Trajectory& trajectory) {
 }
 
 void CheckDataset(const Dataset& dataset) {
-  CheckCamera(dataset.camera);
+  try {
+    dataset.camera.Validate("accepted calibration");
+  } catch (const InputError& e) {
+    DSM_CHECK(false, std::string("a reader accepted a calibration that fails Validate: ") + e.what());
+  }
   DSM_CHECK(!dataset.frames.empty(), "a reader accepted a dataset without frames");
   for (size_t i = 1; i < dataset.frames.size(); ++i)
     DSM_CHECK(dataset.frames[i].t_ns > dataset.frames[i - 1].t_ns, "a reader accepted non-increasing stamps");
@@ -116,10 +102,19 @@ void CheckDataset(const Dataset& dataset) {
     DSM_CHECK(std::isfinite(f.exposure_ms) && f.exposure_ms >= 0.0, "a reader accepted a bad exposure time");
   if (dataset.HasGroundTruth()) CheckTrajectory(dataset.ground_truth);
   DSM_CHECK(dataset.images != nullptr, "a reader accepted a dataset without an image store");
-  // What `dsm info` and the start of `dsm run` do next.
+  // What `dsm info` and the start of `dsm run` do next, for cameras of at most 0.5 Mpx (speed).
   if (static_cast<int64_t>(dataset.camera.width) * dataset.camera.height > 500000) return;
   try {
-    DSM_CHECK(!DescribeDataset(dataset).empty(), "empty description");
+    // As `dsm info` builds it (5 pyramid levels: sizes a multiple of 16).
+    const Undistorter undistorter(dataset.camera, {dataset.undistort_mode, 16});
+    const PinholeCamera& out = undistorter.output();
+    DSM_CHECK(out.width > 0 && out.height > 0 && std::isfinite(out.fx) && std::isfinite(out.fy) && out.fx > 0 &&
+                  out.fy > 0 && std::isfinite(out.cx) && std::isfinite(out.cy),
+              "the undistorter made an implausible output camera");
+    DSM_CHECK(!DescribeDataset(dataset, undistorter).empty(), "empty description");
+  } catch (const InputError&) {
+  }
+  try {
     dataset.LoadImage(0);
   } catch (const InputError&) {
   }

@@ -66,7 +66,6 @@ class Layout {
 // is broken): a calibration that passed Validate; frames non-empty with strictly increasing
 // stamps; finite poses with unit rotations; an undistorter that can be built for a camera of at
 // most 0.5 Mpixel (larger ones are skipped for speed), or a clear InputError from it.
-void CheckCamera(const CameraCalibration& camera);
 void CheckTrajectory(const Trajectory& trajectory);
 void CheckDataset(const Dataset& dataset);
 

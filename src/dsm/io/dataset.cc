@@ -117,7 +117,9 @@ Dataset OpenDataset(const fs::path& path, const GroundTruthConvention& gt) {
                    "and images/)");
 }
 
-std::string DescribeDataset(const Dataset& d) {
+std::string DescribeDataset(const Dataset& d) { return DescribeDataset(d, Undistorter(d.camera, {d.undistort_mode, 16})); }
+
+std::string DescribeDataset(const Dataset& d, const Undistorter& und) {
   std::ostringstream out;
   out.precision(10);
   const CameraCalibration& c = d.camera;
@@ -135,7 +137,6 @@ std::string DescribeDataset(const Dataset& d) {
     for (double k : c.distortion) out << " " << k;
     out << "\n";
   }
-  const Undistorter und(c, {d.undistort_mode, 16});
   const PinholeCamera& p = und.output();
   out << "undistorted:  pinhole " << p.width << "x" << p.height << "  fx " << p.fx << "  fy " << p.fy << "  cx "
       << p.cx << "  cy " << p.cy << "  (" << (d.undistort_mode == UndistortMode::kCrop ? "crop" : "full")

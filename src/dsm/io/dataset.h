@@ -81,8 +81,10 @@ GtQuaternion ParseGtQuaternion(const std::string& name, const std::string& where
 // (the other formats store camera poses with Hamilton quaternions).
 Dataset OpenDataset(const std::filesystem::path& path, const GroundTruthConvention& gt = {});
 
-// Human-readable summary (what `dsm info` prints).
+// Human-readable summary (what `dsm info` prints). The second form describes the undistortion of
+// an undistorter already built for the dataset's camera and mode.
 std::string DescribeDataset(const Dataset& dataset);
+std::string DescribeDataset(const Dataset& dataset, const Undistorter& undistorter);
 
 // Readers of the single formats (used by OpenDataset).
 Dataset ReadEuroc(const std::filesystem::path& mav0, const GroundTruthConvention& gt = {});

@@ -198,23 +198,25 @@ FrameTracker::System8 FrameTracker::SumSystem(int l, const Residuals& res, const
   return sys;
 }
 
-double FrameTracker::CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const {
+FrameTracker::Energy FrameTracker::CoarseSum(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta,
+                                             const ErrorModel& model) const {
   const int l = static_cast<int>(levels_.size()) - 1;
   Residuals res;
   Evaluate(l, frame, guess, alpha, beta, &res);
-  const Energy e = SumEnergy(l, res, DefaultErrorModel(options_.robust));
-  if (e.valid < 0.5 * levels_[l].qx.size()) return std::numeric_limits<double>::infinity();
+  return SumEnergy(l, res, model);
+}
+
+double FrameTracker::CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const {
+  const Energy e = CoarseSum(frame, guess, alpha, beta, DefaultErrorModel(options_.robust));
+  if (e.valid < 0.5 * levels_.back().qx.size()) return std::numeric_limits<double>::infinity();
   return e.Mean();
 }
 
 double FrameTracker::CoarseEnergyOverAll(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const {
-  const int l = static_cast<int>(levels_.size()) - 1;
-  const size_t n = levels_[l].qx.size();
+  const size_t n = levels_.back().qx.size();
   if (n == 0) return std::numeric_limits<double>::infinity();
-  Residuals res;
-  Evaluate(l, frame, guess, alpha, beta, &res);
   const ErrorModel model = DefaultErrorModel(options_.robust);
-  const Energy e = SumEnergy(l, res, model);
+  const Energy e = CoarseSum(frame, guess, alpha, beta, model);
   return (e.energy + static_cast<double>(n - e.valid) * model.Energy(model.inlier_threshold)) / n;
 }
 

@@ -129,6 +129,8 @@ class FrameTracker {
   };
   void Evaluate(int level, const ImagePyramid& frame, const SE3d& T, double alpha, double beta, Residuals* out) const;
   Energy SumEnergy(int level, const Residuals& res, const ErrorModel& model) const;
+  // The energy of the coarsest level at one state, unoptimised (CoarseEnergy, CoarseEnergyOverAll).
+  Energy CoarseSum(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta, const ErrorModel& model) const;
   System8 SumSystem(int level, const Residuals& res, const ErrorModel& model, double alpha) const;
 
   TrackerOptions options_;

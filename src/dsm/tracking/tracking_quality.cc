@@ -46,11 +46,14 @@ TrackingQuality::TrackingQuality(const QualityOptions& options) : options_(optio
 double TrackingQuality::ResidualLevel() const { return MedianOf(residual_); }
 double TrackingQuality::TextureLevel() const { return MedianOf(texture_); }
 
+bool TrackingQuality::BelowTextureLevel(double texture, double ratio) const {
+  return static_cast<int>(texture_.size()) >= options_.history && texture < ratio * TextureLevel();
+}
+
 std::string TrackingQuality::CheckImage(double texture) const {
   if (!std::isfinite(texture)) return "unusable image";
-  const double level = TextureLevel();
-  if (static_cast<int>(texture_.size()) >= options_.history && texture < options_.min_texture_ratio * level)
-    return Format("too little texture (%.2f, usual %.2f)", texture, level);
+  if (BelowTextureLevel(texture, options_.min_texture_ratio))
+    return Format("too little texture (%.2f, usual %.2f)", texture, TextureLevel());
   return {};
 }
 
@@ -59,9 +62,8 @@ bool TrackingQuality::CheckKeyframeImage(double texture, double previous) const 
 }
 
 std::string TrackingQuality::CheckRelocalisationImage(double texture) const {
-  const double level = TextureLevel();
-  if (static_cast<int>(texture_.size()) >= options_.history && texture < options_.min_relocalisation_texture_ratio * level)
-    return Format("too little texture to relocalise (%.2f, usual %.2f)", texture, level);
+  if (BelowTextureLevel(texture, options_.min_relocalisation_texture_ratio))
+    return Format("too little texture to relocalise (%.2f, usual %.2f)", texture, TextureLevel());
   return {};
 }
 
