@@ -13,7 +13,7 @@ Command AddRun(CLI::App& app) {
   struct Args {
     std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
-    bool quiet = false, global_ba = false, sequential = false, realtime = false;
+    bool quiet = false, no_map = false, global_ba = false, sequential = false, realtime = false;
     GtArgs gt;
   };
   auto a = std::make_shared<Args>();
@@ -36,6 +36,7 @@ Command AddRun(CLI::App& app) {
                  "Threads of the parallel loops (default 0: one per core; 1: loops run on the tracking and "
                  "mapping threads alone)");
   app.add_option("--debug", a->debug, "Write per-keyframe diagnostics (table, images, points) into this folder");
+  app.add_flag("--no-map", a->no_map, "Do not write map.ply and keyframes.ply (the map's points and keyframe centres)");
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
   // Ablation switches (paper VII-A); they override the config file.
   app.add_option("--nt", a->nt, "Temporal keyframes N_t (window.temporal_keyframes)");
@@ -64,6 +65,7 @@ Command AddRun(CLI::App& app) {
     options.start = a->start;
     options.end = a->end;
     options.quiet = a->quiet;
+    options.write_map = !a->no_map;
     options.debug_dir = a->debug;
     options.workers = a->workers;
     if (a->sequential && a->realtime) throw InputError("--sequential and --realtime exclude each other");

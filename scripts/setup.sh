@@ -11,7 +11,7 @@ PACKAGES=(
   libboost-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
-  jq
+  jq python3 python3-pytest python3-numpy
 )
 
 ./scripts/packages.sh "${PACKAGES[@]}"

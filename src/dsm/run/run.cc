@@ -16,6 +16,7 @@
 #include "dsm/run/debug_writer.h"
 #include "dsm/run/frame_reader.h"
 #include "dsm/run/interrupt.h"
+#include "dsm/run/map_export.h"
 #include "dsm/system/system.h"
 #include "dsm/util/check.h"
 
@@ -54,13 +55,17 @@ struct MapRun {
   int first_frame = -1, last_frame = -1;
   SystemStats stats;
   int map_points = 0;
+  // Corners of the box around its points (world, the map's scale); min > max when it has none.
+  Eigen::Vector3f bounds_min = Eigen::Vector3f::Constant(INFINITY), bounds_max = -bounds_min;
   Trajectory keyframes, frames;
   std::optional<Trajectory> before_global_ba;
   std::optional<nlohmann::json> eval;
 };
 
-// Ends a map: waits for its mapping, runs the global BA when asked, writes its trajectories.
-MapRun CloseMap(System& system, const fs::path& dir, int first_frame, int last_frame, bool global_ba) {
+// Ends a map: waits for its mapping, runs the global BA when asked, writes its trajectories (and,
+// with write_map, its points and keyframes as PLY).
+MapRun CloseMap(System& system, const fs::path& dir, int first_frame, int last_frame, bool global_ba,
+                const PinholeCamera& camera, bool write_map) {
   system.Finish();
   MapRun m;
   m.dir = dir;
@@ -79,6 +84,15 @@ MapRun CloseMap(System& system, const fs::path& dir, int first_frame, int last_f
   if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
   WriteTumTrajectory(dir / "keyframes.tum", m.keyframes);
   WriteTumTrajectory(dir / "frames.tum", m.frames);
+  const PlyCloud points = MapPointCloud(system.map(), camera);
+  for (const Eigen::Vector3f& x : points.xyz) {
+    m.bounds_min = m.bounds_min.cwiseMin(x);
+    m.bounds_max = m.bounds_max.cwiseMax(x);
+  }
+  if (write_map) {
+    WritePly(dir / "map.ply", points);
+    WritePly(dir / "keyframes.ply", KeyframeCloud(system.map()));
+  }
   return m;
 }
 
@@ -223,7 +237,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     if (system->NeedsNewMap() && i + 1 < end) {
       // Relocalisation keeps failing: the camera is somewhere new. This map ends here and the
       // next frames start another (merging maps is not done).
-      maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, i, options.global_ba));
+      maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, i, options.global_ba,
+                              undistorter.output(), options.write_map));
       if (!options.quiet) std::printf("frame %5d  new map %zu (relocalisation kept failing)\n", i, maps.size());
       system = std::make_unique<System>(undistorter.output(), system_options);
       map_first_frame = i + 1;
@@ -240,7 +255,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                           processed / (processed - 1)
                     : 0.0;
   const double fps = processed / process_s, realtime_factor = recording_s / process_s;
-  maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, last_frame, options.global_ba));
+  maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, last_frame, options.global_ba,
+                              undistorter.output(), options.write_map));
   system.reset();
   const SystemStats s = Combined(maps);
   int map_points = 0;
@@ -326,6 +342,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                         {"keyframes", m.stats.keyframes}, {"map_points", m.map_points},
                         {"initialized_at_frame", m.stats.initialized_at_frame}};
     if (m.eval) j["keyframe_ate_m"] = (*m.eval)["keyframes"]["ape"]["rmse"];
+    if (m.map_points > 0) {
+      j["bounds"] = {{"min", {m.bounds_min.x(), m.bounds_min.y(), m.bounds_min.z()}},
+                       {"max", {m.bounds_max.x(), m.bounds_max.y(), m.bounds_max.z()}}};
+    }
     map_list.push_back(j);
   }
   summary.stats["maps"] = map_list;

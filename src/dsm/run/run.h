@@ -3,6 +3,9 @@
 //   keyframes.tum, frames.tum   world_from_cam poses (TUM format, nanosecond timestamps)
 //   stats.json                  counts, timings, latency, memory, map size
 //   eval.json                   Sim(3)-aligned ATE of keyframes and frames (with ground truth)
+//   map.ply, keyframes.ply      the map's points and keyframe centres (map_export.h; not with
+//                               RunOptions::write_map false)
+// A run that starts further maps (relocalisation kept failing) writes each into map_1/, map_2/, ...
 #pragma once
 
 #include <filesystem>
@@ -33,6 +36,7 @@ struct RunOptions {
   int end = -1;    // One past the last frame (-1: to the end).
   bool quiet = false;
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
+  bool write_map = true;   // map.ply and keyframes.ply beside the trajectories.
   // Non-empty: per-keyframe diagnostics there (debug_writer.h); they need the sequential pace.
   std::filesystem::path debug_dir;
 };
