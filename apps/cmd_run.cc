@@ -12,6 +12,7 @@ namespace dsm::cli {
 Command AddRun(CLI::App& app) {
   struct Args {
     std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
+    double progress_interval = 10.0;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
     bool quiet = false, no_map = false, global_ba = false, sequential = false, realtime = false;
     GtArgs gt;
@@ -25,7 +26,10 @@ Command AddRun(CLI::App& app) {
   app.add_option("--config", a->config, "YAML file with options (see README)");
   app.add_option("--start", a->start, "First frame index");
   app.add_option("--end", a->end, "One past the last frame index");
-  app.add_flag("--quiet", a->quiet, "Print only the summary");
+  app.add_flag("--quiet", a->quiet, "Print only the summary (no progress, no lost / relocalised lines)");
+  app.add_option("--progress-interval", a->progress_interval,
+                 "Seconds between progress lines when stdout is not a terminal (default 10; a terminal shows "
+                 "one line updated in place)");
   app.add_flag("--sequential", a->sequential,
                "One thread: every keyframe mapped before the next frame is tracked (deterministic output)");
   app.add_flag("--realtime", a->realtime,
@@ -65,6 +69,8 @@ Command AddRun(CLI::App& app) {
     options.start = a->start;
     options.end = a->end;
     options.quiet = a->quiet;
+    if (!(a->progress_interval >= 0.0)) throw InputError("--progress-interval must be >= 0 seconds");
+    options.progress_interval_s = a->progress_interval;
     options.write_map = !a->no_map;
     options.debug_dir = a->debug;
     options.workers = a->workers;

@@ -185,6 +185,27 @@ TEST(Cli, RunWritesTrajectoriesStatsAndEvaluation) {
   EXPECT_EQ(frames.stamps_ns.front() % 1000, 0);  // the synthetic stamps are whole microseconds
 }
 
+// Progress: when stdout is not a terminal, plain lines at --progress-interval; none with --quiet.
+TEST(Cli, RunPrintsProgressLinesUnlessQuiet) {
+  const fs::path dir = ScratchDir("cli_progress");
+  ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() + " --frames 30 --width 160 --height 120").code, 0);
+  const std::string run = "run " + (dir / "seq").string() + " --sequential --out " + (dir / "out").string();
+  const Result r = RunDsm(run + " --progress-interval 0");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(Contains(r.output, "frame 1/30 (3%)")) << r.output;
+  EXPECT_TRUE(Contains(r.output, "frame 30/30 (100%)")) << r.output;
+  EXPECT_TRUE(Contains(r.output, " keyframes ")) << r.output;
+  EXPECT_TRUE(Contains(r.output, "tracking")) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\r'), 0);  // No redrawing outside a terminal.
+  const Result quiet = RunDsm(run + " --quiet");
+  ASSERT_EQ(quiet.code, 0) << quiet.output;
+  EXPECT_FALSE(Contains(quiet.output, "frame 1/30")) << quiet.output;
+  EXPECT_TRUE(Contains(quiet.output, "30/30 frames tracked")) << quiet.output;
+  const Result bad = RunDsm(run + " --progress-interval -1");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_TRUE(Contains(bad.output, "--progress-interval")) << bad.output;
+}
+
 // `--debug DIR` on a rendered sequence with depth: a row per keyframe, a picture and a point table
 // per keyframe, and on a well-tracked sequence neither the motion's scale nor the points' depths
 // drift from the scale the map started with.

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include <sys/resource.h>
+#include <unistd.h>
 #include <tbb/global_control.h>
 
 #include "dsm/eval/metrics.h"
@@ -17,6 +18,7 @@
 #include "dsm/run/frame_reader.h"
 #include "dsm/run/interrupt.h"
 #include "dsm/run/map_export.h"
+#include "dsm/run/progress.h"
 #include "dsm/system/system.h"
 #include "dsm/util/check.h"
 
@@ -118,6 +120,14 @@ void EvaluateMap(const Dataset& dataset, MapRun* m, std::string* line) {
   WriteJson(m->dir / "eval.json", *m->eval);
 }
 
+// Time span of frames first..last as the camera recorded them, one frame interval per frame (0 for
+// a single frame).
+double RecordingSpan(const Dataset& dataset, int first, int last) {
+  const int n = last + 1 - first;
+  if (n < 2) return 0.0;
+  return 1e-9 * static_cast<double>(dataset.frames[last].t_ns - dataset.frames[first].t_ns) * n / (n - 1);
+}
+
 // The stats of all maps as one: counts summed, per-frame and per-keyframe lists concatenated.
 SystemStats Combined(const std::vector<MapRun>& maps) {
   SystemStats all = maps.front().stats;
@@ -203,6 +213,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   std::vector<int> skipped;  // Frames whose file could not be used.
   int interrupt_signal = 0;  // The signal that stopped the run (interrupt.h), or 0.
   int last_frame = options.start - 1;  // The last frame taken (processed or skipped).
+  Progress progress(options.quiet ? nullptr : stdout, isatty(fileno(stdout)) != 0, options.progress_interval_s);
+  ProgressState shown;
+  shown.total = end - options.start;
+  TrackingStatus last_status = TrackingStatus::kInitializing;
   for (int i = options.start; i < end; ++i) {
     interrupt_signal = InterruptSignal();
     if (interrupt_signal != 0) break;
@@ -221,7 +235,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     last_frame = i;
     if (!frame.error.empty()) {
       // A bad file in a recording costs its frame, not the run.
-      std::fprintf(stderr, "dsm: warning: %s; frame %d skipped\n", frame.error.c_str(), i);
+      progress.Event("dsm: warning: " + frame.error + "; frame " + std::to_string(i) + " skipped", stderr);
       skipped.push_back(i);
       continue;
     }
@@ -229,31 +243,40 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     const FrameReport r = system->Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms);
     latency_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - released).count());
     if (debug && r.keyframe && maps.empty()) debug->AddKeyframes(*system);  // The first map's.
-    if (!options.quiet && (r.keyframe || r.relocalised || r.status == TrackingStatus::kLost)) {
-      std::printf("frame %5d  %-12s%s%s%s\n", i, TrackingStatusName(r.status).c_str(),
-                  r.relocalised ? " relocalised" : "", r.keyframe ? " keyframe" : "",
-                  r.reason.empty() ? "" : ("  (" + r.reason + ")").c_str());
+    // Events: tracking lost (once per episode) and regained.
+    if (r.relocalised || (r.status == TrackingStatus::kLost && last_status != TrackingStatus::kLost)) {
+      progress.Event("frame " + std::to_string(i) + "  " + (r.relocalised ? "relocalised" : "tracking lost") +
+                     (r.reason.empty() ? "" : "  (" + r.reason + ")"));
     }
+    last_status = r.status;
+    shown.frame = i;
+    shown.done = i + 1 - options.start;
+    shown.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - process0).count();
+    shown.recording_s = RecordingSpan(dataset, options.start, i);
+    const System::MapSize size = system->TrackedMapSize();
+    shown.keyframes = size.keyframes;
+    shown.points = size.points;
+    shown.state = r.status == TrackingStatus::kOk ? "tracking" : r.status == TrackingStatus::kLost ? "lost" : "initialising";
+    progress.Update(shown);
     if (system->NeedsNewMap() && i + 1 < end) {
       // Relocalisation keeps failing: the camera is somewhere new. This map ends here and the
       // next frames start another (merging maps is not done).
       maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, i, options.global_ba,
                               undistorter.output(), options.write_map));
-      if (!options.quiet) std::printf("frame %5d  new map %zu (relocalisation kept failing)\n", i, maps.size());
+      progress.Event("frame " + std::to_string(i) + "  new map " + std::to_string(maps.size()) +
+                     " (relocalisation kept failing)");
       system = std::make_unique<System>(undistorter.output(), system_options);
       map_first_frame = i + 1;
     }
   }
+  progress.Finish();
   system->Finish();
 
   // Speed against the recording: the frames' time span (one frame interval per frame) over the
   // time spent reading and processing them (mapping included); > 1 is faster than real time.
   const double process_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - process0).count();
   const int processed = last_frame + 1 - options.start;  // Frames read or skipped.
-  const double recording_s =
-      processed > 1 ? 1e-9 * static_cast<double>(dataset.frames[last_frame].t_ns - dataset.frames[options.start].t_ns) *
-                          processed / (processed - 1)
-                    : 0.0;
+  const double recording_s = RecordingSpan(dataset, options.start, last_frame);
   const double fps = processed / process_s, realtime_factor = recording_s / process_s;
   maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, last_frame, options.global_ba,
                               undistorter.output(), options.write_map));

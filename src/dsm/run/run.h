@@ -34,7 +34,9 @@ struct RunOptions {
   int workers = 0;  // Threads of the parallel loops (TBB) in each side; 0: one per core.
   int start = 0;   // First frame index.
   int end = -1;    // One past the last frame (-1: to the end).
-  bool quiet = false;
+  bool quiet = false;  // No progress and no event lines on stdout.
+  // Progress (progress.h) when stdout is not a terminal: a line every this many seconds.
+  double progress_interval_s = 10.0;
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
   bool write_map = true;   // map.ply and keyframes.ply beside the trajectories.
   // Non-empty: per-keyframe diagnostics there (debug_writer.h); they need the sequential pace.

@@ -567,4 +567,9 @@ Trajectory System::FrameTrajectory() const {
 
 int System::NumMapPoints() const { return map_.NumLivePoints(); }
 
+System::MapSize System::TrackedMapSize() const {
+  if (!reference_) return {};
+  return {static_cast<int>(reference_->cam_from_world.size()), reference_->map_points};
+}
+
 }  // namespace dsm

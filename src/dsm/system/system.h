@@ -112,6 +112,12 @@ class System {
   const SystemStats& stats() const { return stats_; }
   int NumMapPoints() const;
   const Map& map() const { return map_; }
+  // The map's size as the tracking side last took it over (its tracking reference): keyframes
+  // mapped and live points. For progress displays; safe between Process calls in every pace.
+  struct MapSize {
+    int keyframes = 0, points = 0;
+  };
+  MapSize TrackedMapSize() const;
   // True once relocalisation failed options.relocalisation.max_lost_frames times in a row: the
   // camera is somewhere the map does not cover, and the caller starts a new map (a new System).
   bool NeedsNewMap() const;
@@ -165,6 +171,7 @@ class System {
     std::vector<SE3d> cam_from_world;
     std::vector<AffineBrightness> affine;
     std::vector<double> exposure;
+    int map_points = 0;  // Live points of the map then.
   };
 
   // On the first frame: its noise level, the smoothing of every frame (options.smoothing_sigma) and

@@ -303,6 +303,7 @@ std::shared_ptr<const System::TrackingReference> System::MakeReference(
     ref->affine.push_back(map_.keyframe(k).affine);
     ref->exposure.push_back(map_.keyframe(k).exposure);
   }
+  ref->map_points = map_.NumLivePoints();
   return ref;
 }
 
