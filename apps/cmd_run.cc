@@ -16,9 +16,10 @@ Command AddRun(CLI::App& app) {
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
     bool quiet = false, no_map = false, global_ba = false, sequential = false, realtime = false;
     GtArgs gt;
+    VideoArgs video;
   };
   auto a = std::make_shared<Args>();
-  app.add_option("DATASET", a->dataset, "Dataset folder")->required();
+  app.add_option("DATASET", a->dataset, "Dataset folder, or a video file (mp4, avi, mkv, ...) with --calib")->required();
   app.add_option("--out", a->out, "Output folder (default ./dsm_out)");
   app.add_option("--mode", a->mode,
                  "dsm (persistent map: temporal + covisible window, default) | sw (sliding window of N_t + N_c "
@@ -49,6 +50,7 @@ Command AddRun(CLI::App& app) {
   app.add_option("--pba-levels", a->pba_levels, "Pyramid levels of the bundle adjustment (pba.levels)");
   app.add_option("--robust", a->robust, "t | huber | huber-mad (robust.function)");
   AddGtOptions(app, &a->gt);
+  AddVideoOptions(app, &a->video);
   return [a] {
     RunOptions options;
     if (a->mode == "sw") {
@@ -78,7 +80,7 @@ Command AddRun(CLI::App& app) {
     options.pace = a->sequential ? Pace::kSequential : a->realtime ? Pace::kRealtime : Pace::kFree;
     // The per-keyframe diagnostics read the map after each keyframe: only sequential allows that.
     if (!options.debug_dir.empty() && !a->realtime) options.pace = Pace::kSequential;
-    const Dataset dataset = OpenDataset(a->dataset, a->gt.Parse());
+    const Dataset dataset = OpenInput(a->dataset, a->gt, a->video);
     CatchInterrupts();
     const RunSummary summary = RunDataset(dataset, options, a->out);
     std::printf("%s%s\n", summary.line.c_str(), summary.interrupt_signal ? " (interrupted)" : "");

@@ -26,4 +26,14 @@ struct GtArgs {
 };
 void AddGtOptions(CLI::App& app, GtArgs* args);
 
+// --calib / --groundtruth / --time-offset: a video file as the dataset (io/video_dataset.h).
+struct VideoArgs {
+  std::string calib, ground_truth;
+  double time_offset_s = 0.0;
+};
+void AddVideoOptions(CLI::App& app, VideoArgs* args);
+// A dataset folder, or a video file (by its name's ending) with VideoArgs; throws InputError when
+// the video options are given for a folder.
+Dataset OpenInput(const std::string& path, const GtArgs& gt, const VideoArgs& video);
+
 }  // namespace dsm::cli

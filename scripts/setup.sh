@@ -7,11 +7,12 @@ cd "$(dirname "$0")/.."
 PACKAGES=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev
-  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-features2d-dev libopencv-calib3d-dev libopencv-video-dev
+  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-features2d-dev libopencv-calib3d-dev libopencv-video-dev libopencv-videoio-dev
   libboost-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
-  jq python3 python3-pytest python3-numpy
+  jq
+  python3 python3-pytest python3-numpy ffmpeg  # Python tests (tests/python), video test input
 )
 
 ./scripts/packages.sh "${PACKAGES[@]}"

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/io/image_io.h"
+#include "dsm/io/mat_gray.h"
 
 #include <cstring>
 #include <fstream>
@@ -28,12 +29,6 @@ Image<T> FromMat(const cv::Mat& m) {
   return out;
 }
 
-Image<uint8_t> ToGray8(cv::Mat m, const std::string& source) {
-  m = ToGrayOneChannel(m);
-  if (m.depth() == CV_16U) m.convertTo(m, CV_8U, 1.0 / 257.0);
-  if (m.depth() != CV_8U || m.channels() != 1) throw InputError(source + ": unsupported pixel type");
-  return FromMat<uint8_t>(m);
-}
 
 void Write(const std::filesystem::path& path, const cv::Mat& m) {
   bool ok = false;
@@ -78,8 +73,15 @@ std::vector<uint8_t> ReadFile(const std::filesystem::path& path) {
 
 }  // namespace
 
+Image<uint8_t> MatToGray8(cv::Mat m, const std::string& source) {
+  m = ToGrayOneChannel(m);
+  if (m.depth() == CV_16U) m.convertTo(m, CV_8U, 1.0 / 257.0);
+  if (m.depth() != CV_8U || m.channels() != 1) throw InputError(source + ": unsupported pixel type");
+  return FromMat<uint8_t>(m);
+}
+
 Image<uint8_t> DecodeGray8(const std::vector<uint8_t>& bytes, const std::string& source) {
-  return ToGray8(Decode(bytes, source), source);
+  return MatToGray8(Decode(bytes, source), source);
 }
 
 Image<uint8_t> ReadGray8(const std::filesystem::path& path) { return DecodeGray8(ReadFile(path), path.string()); }
