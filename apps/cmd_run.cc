@@ -14,7 +14,7 @@ Command AddRun(CLI::App& app) {
     std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
     double progress_interval = 10.0;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
-    bool quiet = false, no_map = false, global_ba = false, sequential = false, realtime = false;
+    bool quiet = false, no_map = false, no_report = false, global_ba = false, sequential = false, realtime = false;
     GtArgs gt;
     VideoArgs video;
   };
@@ -42,6 +42,7 @@ Command AddRun(CLI::App& app) {
                  "mapping threads alone)");
   app.add_option("--debug", a->debug, "Write per-keyframe diagnostics (table, images, points) into this folder");
   app.add_flag("--no-map", a->no_map, "Do not write map.ply and keyframes.ply (the map's points and keyframe centres)");
+  app.add_flag("--no-report", a->no_report, "Do not write report.html");
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
   // Ablation switches (paper VII-A); they override the config file.
   app.add_option("--nt", a->nt, "Temporal keyframes N_t (window.temporal_keyframes)");
@@ -74,6 +75,7 @@ Command AddRun(CLI::App& app) {
     if (!(a->progress_interval >= 0.0)) throw InputError("--progress-interval must be >= 0 seconds");
     options.progress_interval_s = a->progress_interval;
     options.write_map = !a->no_map;
+    options.write_report = !a->no_report;
     options.debug_dir = a->debug;
     options.workers = a->workers;
     if (a->sequential && a->realtime) throw InputError("--sequential and --realtime exclude each other");

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   add("gt-check", "Check a dataset's ground truth against its images (epipolar distance of tracked corners)",
       dsm::cli::AddGtCheck);
   add("synth", "Render a synthetic sequence with exact ground truth", dsm::cli::AddSynth);
+  add("report", "Rebuild report.html (map, trajectory, plots; one self-contained page) from a run's output folder",
+      dsm::cli::AddReport);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

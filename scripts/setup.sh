@@ -12,10 +12,14 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
   jq
+  nodejs                                       # the report page's build (npm: three.js, esbuild)
   python3 python3-pytest python3-numpy ffmpeg  # Python tests (tests/python), video test input
+  chromium                                     # the report page's browser test
 )
 
 ./scripts/packages.sh "${PACKAGES[@]}"
+# Debian's own nodejs comes without npm (a nodejs built by NodeSource has it).
+command -v npm >/dev/null || ./scripts/packages.sh npm
 
 BUILD_DIR="${DSM_BUILD_DIR:-build}"
 JOBS="${DSM_JOBS:-$(nproc)}"

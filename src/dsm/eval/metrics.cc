@@ -69,15 +69,32 @@ std::vector<std::pair<size_t, size_t>> RpePairs(const std::vector<SE3d>& est, do
   return pairs;
 }
 
+Association Associate(const Trajectory& ref, const Trajectory& est, const EvalOptions& options) {
+  return ref.HasStamps() && est.HasStamps() ? AssociateByTime(ref, est, options.max_dt_s)
+                                            : AssociateByIndex(ref, est, "the reference", "the estimate");
+}
+
 }  // namespace
+
+Trajectory ReferenceInEstimateFrame(const Trajectory& ref, const Trajectory& est, const EvalResult& result,
+                                    const EvalOptions& options) {
+  const Association assoc = Associate(ref, est, options);
+  const Sim3d est_from_ref = result.ref_from_est.Inverse();
+  Trajectory out;
+  for (size_t k = 0; k < assoc.size(); ++k) {
+    const SE3d& pose = ref.poses[assoc.ref_index[k]];
+    const size_t e = assoc.est_index[k];
+    out.Add(est.HasStamps() ? est.stamps_ns[e] : static_cast<int64_t>(e),
+            SE3d(est_from_ref.So3() * pose.So3(), est_from_ref * pose.Translation()));
+  }
+  return out;
+}
 
 EvalResult Evaluate(const Trajectory& ref, const Trajectory& est, const EvalOptions& options) {
   options.Validate();
   if (ref.empty()) throw InputError("the reference trajectory is empty");
   if (est.empty()) throw InputError("the estimated trajectory is empty");
-  const Association assoc = ref.HasStamps() && est.HasStamps()
-                                ? AssociateByTime(ref, est, options.max_dt_s)
-                                : AssociateByIndex(ref, est, "the reference", "the estimate");
+  const Association assoc = Associate(ref, est, options);
   if (assoc.size() == 0) {
     throw InputError("no poses associate within --max-dt " + std::to_string(options.max_dt_s) +
                      " s: do the trajectories share a time base?");

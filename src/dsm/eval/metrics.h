@@ -53,6 +53,13 @@ struct EvalResult {
 // index. Throws InputError when nothing associates or the alignment is degenerate.
 EvalResult Evaluate(const Trajectory& ref, const Trajectory& est, const EvalOptions& options);
 
+// The reference poses paired with the estimate's (as Evaluate pairs them), moved into the
+// estimate's frame by the inverse alignment (est_from_ref = result.ref_from_est^-1: rotation
+// R^T R_i, position S^-1 t_i) and stamped with the estimate's times: the ground truth drawn beside
+// a map. The position error in reference units is then s |t(est_k) - t(row_k)|, s = S's scale.
+Trajectory ReferenceInEstimateFrame(const Trajectory& ref, const Trajectory& est, const EvalResult& result,
+                                    const EvalOptions& options);
+
 // {"ape": {rmse, mean, median, std, min, max}, "pairs": N, "scale": s, "rpe": {..., "pairs"}}
 nlohmann::json ToJson(const EvalResult& result);
 nlohmann::json ToJson(const ErrorStats& stats);

@@ -56,6 +56,27 @@ TEST(Evaluate, Sim3AlignmentRemovesASimilarity) {
   EXPECT_GT(Evaluate(ref, est, opt).ape.rmse, 0.1);
 }
 
+// The reference drawn in the estimate's frame lands on the estimate, with the estimate's stamps.
+TEST(Evaluate, ReferenceInEstimateFrameUndoesTheAlignment) {
+  const Trajectory ref = Circle(30, 1000, 50000000);
+  Sim3d::Tangent xi;
+  xi << -1, 0.5, 2, 0.3, -0.2, 0.1, std::log(2.5);
+  const Sim3d S = Sim3d::Exp(xi);
+  Trajectory est;
+  for (size_t i = 0; i < ref.size(); i += 2) {  // Every other pose, 2 ms later.
+    est.Add(ref.stamps_ns[i] + 2000000, SE3d(S.So3() * ref.poses[i].So3(), S * ref.poses[i].Translation()));
+  }
+  EvalOptions opt;
+  opt.align = Alignment::kSim3;
+  const Trajectory in_est = ReferenceInEstimateFrame(ref, est, Evaluate(ref, est, opt), opt);
+  ASSERT_EQ(in_est.size(), est.size());
+  for (size_t k = 0; k < est.size(); ++k) {
+    EXPECT_EQ(in_est.stamps_ns[k], est.stamps_ns[k]);
+    EXPECT_LT((in_est.poses[k].Translation() - est.poses[k].Translation()).norm(), 1e-9) << k;
+    EXPECT_LT((in_est.poses[k].So3().Matrix() - est.poses[k].So3().Matrix()).norm(), 1e-9) << k;
+  }
+}
+
 TEST(Evaluate, ApeOfAKnownOffset) {
   const Trajectory ref = Circle(20, 0, 100000000);
   Trajectory est = ref;

@@ -36,4 +36,8 @@ struct PlyCloud {
 // Throws InputError naming the file when it cannot be written; DSM_CHECK on inconsistent columns.
 void WritePly(const std::filesystem::path& path, const PlyCloud& cloud);
 
+// Reads a file of the layout above (as WritePly writes it: float x y z, optional uchar red green
+// blue, int columns, one vertex element). Throws InputError naming the file for anything else.
+PlyCloud ReadPly(const std::filesystem::path& path);
+
 }  // namespace dsm

@@ -101,5 +101,39 @@ TEST(Ply, UnwritablePathNamesTheFile) {
   }
 }
 
+TEST(Ply, ReadBackWhatWasWritten) {
+  PlyCloud cloud;
+  cloud.xyz = {{1.5f, -2.f, 3.25f}, {0.f, 1e-3f, -7.f}};
+  cloud.rgb = {{{10, 20, 30}}, {{255, 0, 128}}};
+  cloud.ints = {{"host", {4, 9}}};
+  const fs::path path = fs::path(::testing::TempDir()) / "ply_round_trip.ply";
+  WritePly(path, cloud);
+  const PlyCloud back = ReadPly(path);
+  EXPECT_EQ(back.xyz, cloud.xyz);
+  EXPECT_EQ(back.rgb, cloud.rgb);
+  EXPECT_EQ(back.ints, cloud.ints);
+}
+
+TEST(Ply, ReadRefusesOtherLayoutsAndCutFiles) {
+  const fs::path dir = fs::path(::testing::TempDir());
+  const auto error_of = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(dir / name, std::ios::binary) << bytes;
+    try {
+      ReadPly(dir / name);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
+                             "property float y\nproperty float z\nend_header\n";
+  EXPECT_NE(error_of("cut.ply", header + std::string(20, '\0')).find("cut.ply: file ends inside"), std::string::npos);
+  EXPECT_NE(error_of("ascii.ply", "ply\nformat ascii 1.0\n").find("not binary little-endian"), std::string::npos);
+  EXPECT_NE(error_of("faces.ply", "ply\nformat binary_little_endian 1.0\nelement face 1\n").find("unexpected element"),
+            std::string::npos);
+  EXPECT_NE(error_of("text.txt", "hello").find("not a PLY file"), std::string::npos);
+  EXPECT_EQ(error_of("fine.ply", header + std::string(24, '\0')), "");
+}
+
 }  // namespace
 }  // namespace dsm

@@ -14,6 +14,7 @@
 #include "dsm/eval/metrics.h"
 #include "dsm/geometry/undistorter.h"
 #include "dsm/io/trajectory_io.h"
+#include "dsm/report/report.h"
 #include "dsm/run/debug_writer.h"
 #include "dsm/run/frame_reader.h"
 #include "dsm/run/interrupt.h"
@@ -107,6 +108,9 @@ void EvaluateMap(const Dataset& dataset, MapRun* m, std::string* line) {
   const EvalResult kf = Evaluate(dataset.ground_truth, m->keyframes, eval);
   const EvalResult fr = Evaluate(dataset.ground_truth, m->frames, eval);
   m->eval = nlohmann::json{{"keyframes", ToJson(kf)}, {"frames", ToJson(fr)}};
+  // The ground truth in the map's frame, beside the frames (the report draws and compares them).
+  WriteTumTrajectory(m->dir / "groundtruth_in_map.tum",
+                     ReferenceInEstimateFrame(dataset.ground_truth, m->frames, fr, eval));
   char text[256];
   std::snprintf(text, sizeof(text), ", keyframe ATE %.2f mm, frame ATE %.2f mm (Sim(3))", 1000.0 * kf.ape.rmse,
                 1000.0 * fr.ape.rmse);
@@ -217,6 +221,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   ProgressState shown;
   shown.total = end - options.start;
   TrackingStatus last_status = TrackingStatus::kInitializing;
+  nlohmann::json per_frame = {{"frame", nlohmann::json::array()}, {"tracking_ms", nlohmann::json::array()}};
   for (int i = options.start; i < end; ++i) {
     interrupt_signal = InterruptSignal();
     if (interrupt_signal != 0) break;
@@ -249,6 +254,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                      (r.reason.empty() ? "" : "  (" + r.reason + ")"));
     }
     last_status = r.status;
+    per_frame["frame"].push_back(i);
+    per_frame["tracking_ms"].push_back(r.tracking_ms);
     shown.frame = i;
     shown.done = i + 1 - options.start;
     shown.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - process0).count();
@@ -294,7 +301,11 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                                      {"iterations", k.pba_iterations}, {"ms", k.pba_ms}}}});
     created.push_back(k.points_created);
   }
+  const PinholeCamera& camera = undistorter.output();
   summary.stats = {
+      {"dataset", dataset.root.string()},
+      {"camera", {{"width", camera.width}, {"height", camera.height}, {"fx", camera.fx}, {"fy", camera.fy},
+                  {"cx", camera.cx}, {"cy", camera.cy}}},
       {"mode", options.system.mode == MapMode::kSlidingWindow ? "sw" : "dsm"},
       {"frames", s.frames},
       {"frames_tracked", s.frames_tracked},
@@ -312,6 +323,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"covisible_keyframes_selected", s.covisible_keyframes_selected},
       {"points_created_per_keyframe", created},
       {"per_keyframe", per_keyframe},
+      {"per_frame", per_frame},
       {"timing_ms", {{"tracking", TimingStats(s.tracking_ms)}, {"tracing", TimingStats(s.tracing_ms)},
                      {"mapping", TimingStats(s.mapping_ms)}, {"pba", TimingStats(s.pba_ms)}}},
   };
@@ -375,6 +387,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["peak_rss_mb"] = PeakRssMb();
   summary.stats["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   WriteJson(out_dir / "stats.json", summary.stats);
+  if (options.write_report) WriteReport(out_dir);
   return summary;
 }
 

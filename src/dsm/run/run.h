@@ -5,6 +5,7 @@
 //   eval.json                   Sim(3)-aligned ATE of keyframes and frames (with ground truth)
 //   map.ply, keyframes.ply      the map's points and keyframe centres (map_export.h; not with
 //                               RunOptions::write_map false)
+//   report.html                 the run's report page (report/report.h; not with write_report false)
 // A run that starts further maps (relocalisation kept failing) writes each into map_1/, map_2/, ...
 #pragma once
 
@@ -39,6 +40,7 @@ struct RunOptions {
   double progress_interval_s = 10.0;
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
   bool write_map = true;   // map.ply and keyframes.ply beside the trajectories.
+  bool write_report = true;  // report.html (report/report.h) in the output folder.
   // Non-empty: per-keyframe diagnostics there (debug_writer.h); they need the sequential pace.
   std::filesystem::path debug_dir;
 };

@@ -1,0 +1,161 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/report/report.h"
+
+#include <fstream>
+
+#include "dsm/io/ply.h"
+#include "dsm/io/trajectory_io.h"
+#include "dsm/util/check.h"
+
+namespace dsm {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string Base64(const void* data, size_t size) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  std::string out;
+  out.reserve((size + 2) / 3 * 4);
+  for (size_t i = 0; i < size; i += 3) {
+    const uint32_t b0 = bytes[i], b1 = i + 1 < size ? bytes[i + 1] : 0, b2 = i + 2 < size ? bytes[i + 2] : 0;
+    const uint32_t triple = (b0 << 16) | (b1 << 8) | b2;
+    out += kAlphabet[(triple >> 18) & 63];
+    out += kAlphabet[(triple >> 12) & 63];
+    out += i + 1 < size ? kAlphabet[(triple >> 6) & 63] : '=';
+    out += i + 2 < size ? kAlphabet[triple & 63] : '=';
+  }
+  return out;
+}
+
+json ReadJson(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string() + ": missing (is this a dsm run's output folder?)");
+  try {
+    return json::parse(in);
+  } catch (const json::exception& e) {
+    throw InputError(path.string() + ": not valid JSON (" + e.what() + ")");
+  }
+}
+
+// A value of `j` at `key`, or `fallback` when absent or null.
+template <typename T>
+T Get(const json& j, const char* key, T fallback) {
+  return j.contains(key) && !j[key].is_null() ? j[key].get<T>() : fallback;
+}
+
+double Seconds(int64_t t_ns, int64_t t0_ns) { return 1e-9 * static_cast<double>(t_ns - t0_ns); }
+
+json PointsOf(const fs::path& ply) {
+  if (!fs::exists(ply)) return {{"count", 0}, {"xyz", ""}, {"grey", ""}};
+  const PlyCloud cloud = ReadPly(ply);
+  std::vector<float> xyz;
+  std::vector<uint8_t> grey;
+  for (size_t i = 0; i < cloud.xyz.size(); ++i) {
+    xyz.insert(xyz.end(), cloud.xyz[i].data(), cloud.xyz[i].data() + 3);
+    grey.push_back(cloud.rgb.empty() ? 200 : cloud.rgb[i][0]);
+  }
+  return {{"count", cloud.xyz.size()}, {"xyz", Base64(xyz.data(), xyz.size() * sizeof(float))},
+          {"grey", Base64(grey.data(), grey.size())}};
+}
+
+// One map's part of the document; `per_keyframe`: its keyframes' rows of stats.json.
+json MapOf(const fs::path& dir, const std::string& name, const json& per_keyframe, int64_t t0_ns, json* errors,
+           int map_index) {
+  json m = {{"dir", name}, {"points", PointsOf(dir / "map.ply")}};
+  const Trajectory keyframes = ReadTrajectory(dir / "keyframes.tum", TrajectoryFormat::kTum);
+  json kfs = json::array(), links = json::array();
+  for (size_t k = 0; k < keyframes.size(); ++k) {
+    const Eigen::Vector3d p = keyframes.poses[k].Translation();
+    const Eigen::Quaterniond q = keyframes.poses[k].So3().Quaternion();
+    const json row = k < per_keyframe.size() ? per_keyframe[k] : json::object();
+    kfs.push_back({{"id", k}, {"frame", Get(row, "frame", -1)}, {"t", Seconds(keyframes.stamps_ns[k], t0_ns)},
+                   {"p", {p.x(), p.y(), p.z()}}, {"q", {q.x(), q.y(), q.z(), q.w()}}});
+    if (row.contains("covisible"))
+      for (const json& c : row["covisible"]) links.push_back({k, c.get<int>()});
+  }
+  m["keyframes"] = kfs;
+  m["covisibility"] = links;
+  m["groundtruth"] = json::array();
+  if (!fs::exists(dir / "groundtruth_in_map.tum") || !fs::exists(dir / "frames.tum")) return m;
+  const Trajectory gt = ReadTrajectory(dir / "groundtruth_in_map.tum", TrajectoryFormat::kTum);
+  const Trajectory frames = ReadTrajectory(dir / "frames.tum", TrajectoryFormat::kTum);
+  for (size_t k = 0; k < gt.size(); ++k) {
+    const Eigen::Vector3d p = gt.poses[k].Translation();
+    m["groundtruth"].push_back({Seconds(gt.stamps_ns[k], t0_ns), p.x(), p.y(), p.z()});
+  }
+  // Errors: the frame and the ground-truth row of the same stamp, in the map's units times the
+  // alignment's scale (metres per map unit).
+  double scale = 1.0;
+  if (fs::exists(dir / "eval.json")) scale = Get(ReadJson(dir / "eval.json")["frames"], "scale", 1.0);
+  json t = json::array(), error_mm = json::array();
+  size_t g = 0;
+  for (size_t f = 0; f < frames.size() && g < gt.size(); ++f) {
+    while (g < gt.size() && gt.stamps_ns[g] < frames.stamps_ns[f]) ++g;
+    if (g == gt.size() || gt.stamps_ns[g] != frames.stamps_ns[f]) continue;
+    t.push_back(Seconds(frames.stamps_ns[f], t0_ns));
+    error_mm.push_back(1000.0 * scale * (frames.poses[f].Translation() - gt.poses[g].Translation()).norm());
+  }
+  if (!t.empty()) errors->push_back({{"map", map_index}, {"t", t}, {"error_mm", error_mm}});
+  return m;
+}
+
+}  // namespace
+
+json ReportData(const fs::path& run_dir) {
+  const json stats = ReadJson(run_dir / "stats.json");
+  json data;
+  const std::string dataset = Get(stats, "dataset", std::string());
+  data["title"] = dataset.empty() ? run_dir.filename().string() : fs::path(dataset).filename().string();
+  if (data["title"] == "") data["title"] = fs::path(dataset).parent_path().filename().string();
+  json summary;
+  for (const char* key : {"frames", "frames_tracked", "keyframes", "map_points", "mode", "pace", "frames_per_second",
+                          "realtime_factor", "frames_lost", "relocalisations", "interrupted"})
+    if (stats.contains(key)) summary[key] = stats[key];
+  data["camera"] = Get(stats, "camera", json());
+  data["per_frame"] = Get(stats, "per_frame", json{{"frame", json::array()}, {"tracking_ms", json::array()}});
+  json per_keyframe = {{"frame", json::array()}, {"pba_ms", json::array()}, {"points_created", json::array()},
+                       {"reobservations", json::array()}};
+  const json rows = Get(stats, "per_keyframe", json::array());
+  for (const json& row : rows) {
+    per_keyframe["frame"].push_back(Get(row, "frame", -1));
+    per_keyframe["pba_ms"].push_back(row.contains("pba") ? Get(row["pba"], "ms", 0.0) : 0.0);
+    per_keyframe["points_created"].push_back(Get(row, "points_created", 0));
+    per_keyframe["reobservations"].push_back(Get(row, "reobservations", 0));
+  }
+  data["per_keyframe"] = per_keyframe;
+  data["lost_episodes"] = Get(stats, "lost_episodes", json::array());
+
+  // The maps, each with its rows of per_keyframe (listed map after map).
+  const json maps = Get(stats, "maps", json::array({{{"dir", "."}}}));
+  int64_t t0_ns = 0;
+  {
+    const fs::path first = run_dir / maps[0].value("dir", ".") / "keyframes.tum";
+    if (!fs::exists(first)) throw InputError(first.string() + ": missing (is this a dsm run's output folder?)");
+    const fs::path frames = run_dir / maps[0].value("dir", ".") / "frames.tum";
+    const Trajectory t = ReadTrajectory(fs::exists(frames) ? frames : first, TrajectoryFormat::kTum);
+    t0_ns = t.stamps_ns.front();
+  }
+  data["maps"] = json::array();
+  data["errors"] = json::array();
+  size_t row = 0;
+  for (size_t k = 0; k < maps.size(); ++k) {
+    const std::string name = maps[k].value("dir", ".");
+    const size_t n = Get(maps[k], "keyframes", rows.size());
+    json slice = json::array();
+    for (size_t i = row; i < std::min(rows.size(), row + n); ++i) slice.push_back(rows[i]);
+    row += n;
+    data["maps"].push_back(MapOf(run_dir / name, name, slice, t0_ns, &data["errors"], static_cast<int>(k)));
+  }
+  const fs::path eval = run_dir / maps[0].value("dir", ".") / "eval.json";
+  if (fs::exists(eval)) {
+    const json e = ReadJson(eval);
+    if (e.contains("keyframes")) summary["keyframe_ate_mm"] = 1000.0 * e["keyframes"]["ape"]["rmse"].get<double>();
+  }
+  data["summary"] = summary;
+  return data;
+}
+
+}  // namespace dsm
