@@ -13,6 +13,8 @@ Command AddRun(CLI::App& app) {
   struct Args {
     std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
     double progress_interval = 10.0;
+    int port = 8080;
+    bool view = false;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
     bool quiet = false, no_map = false, no_report = false, global_ba = false, sequential = false, realtime = false;
     GtArgs gt;
@@ -43,6 +45,10 @@ Command AddRun(CLI::App& app) {
   app.add_option("--debug", a->debug, "Write per-keyframe diagnostics (table, images, points) into this folder");
   app.add_flag("--no-map", a->no_map, "Do not write map.ply and keyframes.ply (the map's points and keyframe centres)");
   app.add_flag("--no-report", a->no_report, "Do not write report.html");
+  app.add_flag("--view", a->view,
+               "Live viewer: serve the report page on localhost while the run goes on (map, camera and "
+               "statistics pushed over a WebSocket); its address is printed");
+  app.add_option("--port", a->port, "Port of --view (default 8080; 0: any free port)");
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
   // Ablation switches (paper VII-A); they override the config file.
   app.add_option("--nt", a->nt, "Temporal keyframes N_t (window.temporal_keyframes)");
@@ -76,6 +82,8 @@ Command AddRun(CLI::App& app) {
     options.progress_interval_s = a->progress_interval;
     options.write_map = !a->no_map;
     options.write_report = !a->no_report;
+    if (a->port < 0 || a->port > 65535) throw InputError("--port must be 0..65535");
+    options.view_port = a->view ? a->port : -1;
     options.debug_dir = a->debug;
     options.workers = a->workers;
     if (a->sequential && a->realtime) throw InputError("--sequential and --realtime exclude each other");

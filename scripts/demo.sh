@@ -11,4 +11,4 @@ OUT="${1:-demo_out}"
 "$DSM" synth --scene loop --out "$OUT/loop"
 "$DSM" info "$OUT/loop"
 "$DSM" run "$OUT/loop" --out "$OUT/run" --quiet
-echo "demo: trajectories, stats.json and eval.json are in $OUT/run"
+echo "demo: trajectories, stats.json, eval.json, the map (map.ply) and report.html are in $OUT/run"

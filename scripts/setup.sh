@@ -8,7 +8,7 @@ PACKAGES=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-features2d-dev libopencv-calib3d-dev libopencv-video-dev libopencv-videoio-dev
-  libboost-dev
+  libboost-dev libwebsocketpp-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
   jq

@@ -117,9 +117,17 @@ class MapView {
     this.setLayer('groundtruth', map.groundtruth && map.groundtruth.length > 1
       ? polyline(map.groundtruth.map((r) => r.slice(1, 4)), 0x2ec4b6) : null);
     const byId = new Map(map.keyframes.map((k) => [k.id, k.p]));
-    const links = map.covisibility.filter(([a, b]) => byId.has(a) && byId.has(b)).map(([a, b]) => [byId.get(a), byId.get(b)]);
+    const links = (map.covisibility || []).filter(([a, b]) => byId.has(a) && byId.has(b)).map(([a, b]) => [byId.get(a), byId.get(b)]);
     this.setLayer('covisibility', links.length ? segments(links, 0x5e9cff, 0.45) : null);
     if (!this.fitted) this.fit(box);
+    this.extent = extent;
+    this.aspect = aspect;
+  }
+
+  // The live camera (dsm run --view): a red frustum, twice a keyframe's size.
+  showCurrent(current) {
+    const pairs = current ? frustumPairs(current.p, current.q, (this.extent || 1) * 0.03, this.aspect || 4 / 3) : [];
+    this.setLayer('current', pairs.length ? segments(pairs, 0xff4d4d) : null);
   }
 
   fit(box) {
@@ -141,14 +149,14 @@ const PLOTS = [
   { id: 'plot-error', title: 'Position error after Sim(3) alignment (mm) over time (s)',
     series: (d) => (d.errors || []).map((e, i) => ({ x: e.t, y: e.error_mm, color: i ? '#9d4edd' : '#2ec4b6', label: `map ${i}` })) },
   { id: 'plot-tracking', title: 'Tracking time per frame (ms) over the frame index',
-    series: (d) => [{ x: d.per_frame.frame, y: d.per_frame.tracking_ms, color: '#ff9f1c', label: 'tracking ms' }],
-    bands: (d) => d.lost_episodes },
+    series: (d) => [{ x: d.per_frame?.frame, y: d.per_frame?.tracking_ms, color: '#ff9f1c', label: 'tracking ms' }],
+    bands: (d) => d.lost_episodes || [] },
   { id: 'plot-pba', title: 'Bundle adjustment time per keyframe (ms) over the frame index',
-    series: (d) => [{ x: d.per_keyframe.frame, y: d.per_keyframe.pba_ms, color: '#5e9cff', label: 'PBA ms' }] },
+    series: (d) => [{ x: d.per_keyframe?.frame, y: d.per_keyframe?.pba_ms, color: '#5e9cff', label: 'PBA ms' }] },
   { id: 'plot-points', title: 'Points created and re-observations per keyframe over the frame index',
     series: (d) => [
-      { x: d.per_keyframe.frame, y: d.per_keyframe.points_created, color: '#e9c46a', label: 'points created' },
-      { x: d.per_keyframe.frame, y: d.per_keyframe.reobservations, color: '#e76f51', label: 're-observations' }] },
+      { x: d.per_keyframe?.frame, y: d.per_keyframe?.points_created, color: '#e9c46a', label: 'points created' },
+      { x: d.per_keyframe?.frame, y: d.per_keyframe?.reobservations, color: '#e76f51', label: 're-observations' }] },
 ];
 
 function summaryText(d) {
@@ -161,6 +169,7 @@ function summaryText(d) {
   if (s.frames_lost) parts.push(`${s.frames_lost} frames lost, ${s.relocalisations} relocalised`);
   if (d.maps.length > 1) parts.push(`${d.maps.length} maps`);
   if (s.interrupted) parts.push('interrupted');
+  if (s.state) parts.push(s.state);
   return parts.join(' · ');
 }
 
@@ -203,14 +212,16 @@ class Report {
       this.mapSelect.style.display = data.maps.length > 1 ? '' : 'none';
     }
     this.showMap();
+    this.view.showCurrent(data.current);
     for (const p of this.plots) {
       const series = p.series(data).filter((s) => s.x && s.x.length);
       p.canvas.dataset.points = series.reduce((n, s) => n + s.x.length, 0);
       drawPlot(p.canvas, series, p.bands ? p.bands(data) : []);
       p.canvas.closest('figure').style.display = series.length ? '' : 'none';
     }
-    this.lost.textContent = data.lost_episodes.length
-      ? 'Lost episodes (first–last frame): ' + data.lost_episodes.map(([a, b]) => `${a}–${b}`).join(', ') +
+    const lost = data.lost_episodes || [];
+    this.lost.textContent = lost.length
+      ? 'Lost episodes (first–last frame): ' + lost.map(([a, b]) => `${a}–${b}`).join(', ') +
         ` · ${data.summary.relocalisations} relocalised` : '';
   }
 
@@ -227,10 +238,20 @@ function start() {
   if (embedded && embedded.textContent.trim()) report.update(JSON.parse(embedded.textContent));
   // The live viewer: the same document pushed again as the run goes on.
   if (location.protocol.startsWith('http') && document.body.dataset.live === '1') {
+    const status = element('span', { id: 'live-status' }, document.querySelector('header'));
+    let updates = 0;
     const connect = () => {
       const socket = new WebSocket(`ws://${location.host}/ws`);
-      socket.onmessage = (event) => report.update(JSON.parse(event.data));
-      socket.onclose = () => setTimeout(connect, 1000);
+      socket.onopen = () => { status.textContent = 'live: connected'; };
+      socket.onmessage = (event) => {
+        report.update(JSON.parse(event.data));
+        status.textContent = `live: connected, update ${++updates}`;
+        status.dataset.updates = updates;
+      };
+      socket.onclose = () => {
+        status.textContent = 'live: the run has ended or the connection is lost (report.html is in the output folder)';
+        setTimeout(connect, 2000);
+      };
     };
     connect();
   }

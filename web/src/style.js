@@ -5,6 +5,7 @@ body { margin: 0; background: #0f1115; color: #dde3ea; font: 14px/1.4 system-ui,
 header { padding: 12px 20px 4px; }
 h1 { font-size: 18px; margin: 0 0 4px; font-weight: 600; }
 #summary { margin: 0; color: #aab2bd; }
+#live-status { color: #2ec4b6; font-size: 12px; }
 main { display: flex; flex-wrap: wrap; gap: 16px; padding: 12px 20px 20px; }
 #view { flex: 1 1 100%; min-width: 420px; }
 #layers { display: flex; gap: 14px; align-items: center; margin-bottom: 6px; color: #aab2bd; }

@@ -21,10 +21,14 @@
 // Times t are seconds since the run's first frame.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "dsm/lie/se3.h"
 
 // The page's script (web/, bundled at build time; report_bundle.S), NUL-terminated.
 extern "C" const char dsm_report_script[];
@@ -40,5 +44,11 @@ std::string ReportPage(const nlohmann::json& data, bool live = false);
 
 // Writes run_dir/report.html from the run's outputs.
 void WriteReport(const std::filesystem::path& run_dir);
+
+// Parts of the document, for its other builder (the live viewer, run/live_view.h):
+// {count, xyz, grey} from x y z triples and grey values ...
+nlohmann::json PointsJson(const std::vector<float>& xyz, const std::vector<uint8_t>& grey);
+// ... and {id, frame, t, p, q} of a keyframe.
+nlohmann::json KeyframeJson(int id, int frame, double t, const SE3d& world_from_cam);
 
 }  // namespace dsm

@@ -49,16 +49,16 @@ T Get(const json& j, const char* key, T fallback) {
 double Seconds(int64_t t_ns, int64_t t0_ns) { return 1e-9 * static_cast<double>(t_ns - t0_ns); }
 
 json PointsOf(const fs::path& ply) {
-  if (!fs::exists(ply)) return {{"count", 0}, {"xyz", ""}, {"grey", ""}};
-  const PlyCloud cloud = ReadPly(ply);
   std::vector<float> xyz;
   std::vector<uint8_t> grey;
-  for (size_t i = 0; i < cloud.xyz.size(); ++i) {
-    xyz.insert(xyz.end(), cloud.xyz[i].data(), cloud.xyz[i].data() + 3);
-    grey.push_back(cloud.rgb.empty() ? 200 : cloud.rgb[i][0]);
+  if (fs::exists(ply)) {
+    const PlyCloud cloud = ReadPly(ply);
+    for (size_t i = 0; i < cloud.xyz.size(); ++i) {
+      xyz.insert(xyz.end(), cloud.xyz[i].data(), cloud.xyz[i].data() + 3);
+      grey.push_back(cloud.rgb.empty() ? 200 : cloud.rgb[i][0]);
+    }
   }
-  return {{"count", cloud.xyz.size()}, {"xyz", Base64(xyz.data(), xyz.size() * sizeof(float))},
-          {"grey", Base64(grey.data(), grey.size())}};
+  return PointsJson(xyz, grey);
 }
 
 // One map's part of the document; `per_keyframe`: its keyframes' rows of stats.json.
@@ -68,11 +68,9 @@ json MapOf(const fs::path& dir, const std::string& name, const json& per_keyfram
   const Trajectory keyframes = ReadTrajectory(dir / "keyframes.tum", TrajectoryFormat::kTum);
   json kfs = json::array(), links = json::array();
   for (size_t k = 0; k < keyframes.size(); ++k) {
-    const Eigen::Vector3d p = keyframes.poses[k].Translation();
-    const Eigen::Quaterniond q = keyframes.poses[k].So3().Quaternion();
     const json row = k < per_keyframe.size() ? per_keyframe[k] : json::object();
-    kfs.push_back({{"id", k}, {"frame", Get(row, "frame", -1)}, {"t", Seconds(keyframes.stamps_ns[k], t0_ns)},
-                   {"p", {p.x(), p.y(), p.z()}}, {"q", {q.x(), q.y(), q.z(), q.w()}}});
+    kfs.push_back(KeyframeJson(static_cast<int>(k), Get(row, "frame", -1), Seconds(keyframes.stamps_ns[k], t0_ns),
+                               keyframes.poses[k]));
     if (row.contains("covisible"))
       for (const json& c : row["covisible"]) links.push_back({k, c.get<int>()});
   }
@@ -103,6 +101,17 @@ json MapOf(const fs::path& dir, const std::string& name, const json& per_keyfram
 }
 
 }  // namespace
+
+json PointsJson(const std::vector<float>& xyz, const std::vector<uint8_t>& grey) {
+  return {{"count", grey.size()}, {"xyz", Base64(xyz.data(), xyz.size() * sizeof(float))},
+          {"grey", Base64(grey.data(), grey.size())}};
+}
+
+json KeyframeJson(int id, int frame, double t, const SE3d& world_from_cam) {
+  const Eigen::Vector3d p = world_from_cam.Translation();
+  const Eigen::Quaterniond q = world_from_cam.So3().Quaternion();
+  return {{"id", id}, {"frame", frame}, {"t", t}, {"p", {p.x(), p.y(), p.z()}}, {"q", {q.x(), q.y(), q.z(), q.w()}}};
+}
 
 json ReportData(const fs::path& run_dir) {
   const json stats = ReadJson(run_dir / "stats.json");

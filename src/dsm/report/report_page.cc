@@ -53,6 +53,7 @@ std::string ReportPage(const nlohmann::json& data, bool live) {
   std::string page;
   page += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   page += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
+  page += "<link rel=\"icon\" href=\"data:,\">\n";  // No icon: the browser asks for none.
   page += "<title>dsm report: " + EscapeHtml(title) + "</title>\n</head>\n";
   page += std::string("<body data-live=\"") + (live ? "1" : "0") + "\">\n";
   page += "<script id=\"dsm-data\" type=\"application/json\">" + JsonInScript(data.dump()) + "</script>\n";

@@ -1,27 +1,18 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/run/map_export.h"
 
-#include <algorithm>
-#include <cmath>
-
-#include "dsm/mapping/projection.h"
+#include "dsm/mapping/map_points.h"
 
 namespace dsm {
 
 PlyCloud MapPointCloud(const Map& map, const PinholeCamera& camera) {
   PlyCloud cloud;
   std::vector<int32_t> host, observations;
-  for (int id = 0; id < map.NumPoints(); ++id) {
-    const Point& p = map.point(id);
-    if (p.removed) continue;
-    const Keyframe& kf = map.keyframe(p.host);
-    cloud.xyz.push_back(PointInWorld(map, camera, p).cast<float>());
-    const int x = std::clamp(static_cast<int>(std::lround(p.pixel.x())), 0, kf.image.width() - 1);
-    const int y = std::clamp(static_cast<int>(std::lround(p.pixel.y())), 0, kf.image.height() - 1);
-    const auto grey = static_cast<uint8_t>(std::clamp(std::lround(kf.Intensity(x, y)), 0L, 255L));
-    cloud.rgb.push_back({grey, grey, grey});
+  for (const LivePoint& p : LivePoints(map, camera)) {
+    cloud.xyz.push_back(p.world);
+    cloud.rgb.push_back({p.grey, p.grey, p.grey});
     host.push_back(p.host);
-    observations.push_back(p.NumGoodObservations());
+    observations.push_back(p.observations);
   }
   cloud.ints = {{"host", std::move(host)}, {"observations", std::move(observations)}};
   cloud.comments = {"dsm map points: world coordinates in the map's own scale (monocular: not metres), grey value of the host pixel"};

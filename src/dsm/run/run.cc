@@ -18,6 +18,7 @@
 #include "dsm/run/debug_writer.h"
 #include "dsm/run/frame_reader.h"
 #include "dsm/run/interrupt.h"
+#include "dsm/run/live_view.h"
 #include "dsm/run/map_export.h"
 #include "dsm/run/progress.h"
 #include "dsm/system/system.h"
@@ -132,6 +133,12 @@ double RecordingSpan(const Dataset& dataset, int first, int last) {
   return 1e-9 * static_cast<double>(dataset.frames[last].t_ns - dataset.frames[first].t_ns) * n / (n - 1);
 }
 
+// A name for the dataset: its folder's (or video file's) name.
+std::string DatasetTitle(const Dataset& dataset) {
+  const fs::path root = dataset.root.filename().empty() ? dataset.root.parent_path() : dataset.root;
+  return root.filename().string();
+}
+
 // The stats of all maps as one: counts summed, per-frame and per-keyframe lists concatenated.
 SystemStats Combined(const std::vector<MapRun>& maps) {
   SystemStats all = maps.front().stats;
@@ -196,6 +203,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   SystemOptions system_options = options.system;
   system_options.threaded = options.pace != Pace::kSequential;
   system_options.wait_for_mapping = options.pace != Pace::kRealtime;
+  system_options.map_snapshots = options.view_port >= 0;
   const Undistorter undistorter(dataset.camera, {dataset.undistort_mode, 1 << (options.system.pyramid_levels - 1)});
   auto system = std::make_unique<System>(undistorter.output(), system_options);
   std::vector<MapRun> maps;  // The maps closed so far.
@@ -203,6 +211,17 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   const auto map_dir = [&](size_t index) { return index == 0 ? out_dir : out_dir / ("map_" + std::to_string(index)); };
   std::optional<DebugWriter> debug;
   if (!options.debug_dir.empty()) debug.emplace(options.debug_dir, dataset, undistorter);
+  std::optional<LiveView> live;
+  if (options.view_port >= 0) {
+    const PinholeCamera& c = undistorter.output();
+    LiveView::Context context{DatasetTitle(dataset), options.system.mode == MapMode::kSlidingWindow ? "sw" : "dsm",
+                              PaceName(options.pace),
+                              {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx},
+                               {"cy", c.cy}}};
+    live.emplace(options.view_port, dataset, context);
+    std::printf("view: http://127.0.0.1:%d/ (updated while the run goes on)\n", live->port());
+    std::fflush(stdout);
+  }
   const auto process0 = std::chrono::steady_clock::now();
   // Realtime: frame i is released at process0 + (t_i - t_start), as a camera would deliver it.
   const auto release = [&](int i) {
@@ -265,6 +284,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     shown.points = size.points;
     shown.state = r.status == TrackingStatus::kOk ? "tracking" : r.status == TrackingStatus::kLost ? "lost" : "initialising";
     progress.Update(shown);
+    if (live) live->Frame(*system, r, i, static_cast<int>(maps.size()), shown.elapsed_s, shown.recording_s);
     if (system->NeedsNewMap() && i + 1 < end) {
       // Relocalisation keeps failing: the camera is somewhere new. This map ends here and the
       // next frames start another (merging maps is not done).
@@ -278,6 +298,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   }
   progress.Finish();
   system->Finish();
+  if (live) live->Finish(*system);
 
   // Speed against the recording: the frames' time span (one frame interval per frame) over the
   // time spent reading and processing them (mapping included); > 1 is faster than real time.

@@ -41,6 +41,8 @@ struct RunOptions {
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
   bool write_map = true;   // map.ply and keyframes.ply beside the trajectories.
   bool write_report = true;  // report.html (report/report.h) in the output folder.
+  // >= 0: the live viewer (live_view.h) on this localhost port (0: a free one), its address printed.
+  int view_port = -1;
   // Non-empty: per-keyframe diagnostics there (debug_writer.h); they need the sequential pace.
   std::filesystem::path debug_dir;
 };

@@ -42,6 +42,9 @@ struct SystemOptions {
   // (true), or go on against the older keyframe and make the keyframe once it is mapped (false:
   // a live camera does not wait).
   bool wait_for_mapping = true;
+  // Every tracking reference carries a MapSnapshot (system.h) for a live viewer: the mapping side
+  // spends about a microsecond per live point on it per keyframe.
+  bool map_snapshots = false;
   int pyramid_levels = 5;          // Image pyramid (the undistorted size divides by 2^(levels-1)).
   int max_initialization_frames = 40;  // Frames on one initialiser reference before it restarts.
   // A keyframe's pyramid is released when no mapping step used it in the last this many keyframes

@@ -567,6 +567,16 @@ Trajectory System::FrameTrajectory() const {
 
 int System::NumMapPoints() const { return map_.NumLivePoints(); }
 
+std::shared_ptr<const MapSnapshot> System::TrackedMapSnapshot() const {
+  return reference_ ? reference_->snapshot : nullptr;
+}
+
+std::optional<SE3d> System::LastFramePose() const {
+  if (!reference_ || reference_->keyframe < 0) return std::nullopt;
+  // cam_from_world of the frame = frame_from_reference * reference's cam_from_world.
+  return (last_frame_from_reference_ * reference_->cam_from_world[reference_->keyframe]).Inverse();
+}
+
 System::MapSize System::TrackedMapSize() const {
   if (!reference_) return {};
   return {static_cast<int>(reference_->cam_from_world.size()), reference_->map_points};

@@ -34,6 +34,7 @@
 #include "dsm/geometry/trajectory.h"
 #include "dsm/image/image.h"
 #include "dsm/map/map.h"
+#include "dsm/mapping/map_points.h"
 #include "dsm/system/options.h"
 #include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
@@ -93,6 +94,16 @@ struct SystemStats {
   int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };
 
+// The map as a viewer shows it, taken by the mapping side with a tracking reference when
+// SystemOptions::map_snapshots is set; never changed after.
+struct MapSnapshot {
+  std::vector<LivePoint> points;
+  std::vector<SE3d> world_from_cam;  // Every keyframe's, in id order ...
+  std::vector<int> keyframe_frames;  // ... and its input frame index.
+  // (keyframe, a covisible keyframe of the window it was mapped in).
+  std::vector<std::pair<int, int>> covisibility;
+};
+
 class System {
  public:
   System(const PinholeCamera& camera, const SystemOptions& options);
@@ -118,6 +129,11 @@ class System {
     int keyframes = 0, points = 0;
   };
   MapSize TrackedMapSize() const;
+  // Its MapSnapshot (null without SystemOptions::map_snapshots or before the map starts), and the
+  // world_from_cam pose of the last tracked frame (none before the map starts); tracking side, as
+  // TrackedMapSize.
+  std::shared_ptr<const MapSnapshot> TrackedMapSnapshot() const;
+  std::optional<SE3d> LastFramePose() const;
   // True once relocalisation failed options.relocalisation.max_lost_frames times in a row: the
   // camera is somewhere the map does not cover, and the caller starts a new map (a new System).
   bool NeedsNewMap() const;
@@ -172,6 +188,7 @@ class System {
     std::vector<AffineBrightness> affine;
     std::vector<double> exposure;
     int map_points = 0;  // Live points of the map then.
+    std::shared_ptr<const MapSnapshot> snapshot;  // With SystemOptions::map_snapshots.
   };
 
   // On the first frame: its noise level, the smoothing of every frame (options.smoothing_sigma) and

@@ -304,6 +304,17 @@ std::shared_ptr<const System::TrackingReference> System::MakeReference(
     ref->exposure.push_back(map_.keyframe(k).exposure);
   }
   ref->map_points = map_.NumLivePoints();
+  if (options_.map_snapshots) {
+    auto snapshot = std::make_shared<MapSnapshot>();
+    snapshot->points = LivePoints(map_, camera_);
+    for (int k = 0; k < map_.NumKeyframes(); ++k) {
+      snapshot->world_from_cam.push_back(map_.keyframe(k).WorldFromCam());
+      snapshot->keyframe_frames.push_back(map_.keyframe(k).frame_index);
+    }
+    for (size_t k = 0; k < stats_.per_keyframe.size(); ++k)
+      for (int c : stats_.per_keyframe[k].covisible) snapshot->covisibility.emplace_back(static_cast<int>(k), c);
+    ref->snapshot = std::move(snapshot);
+  }
   return ref;
 }
 
