@@ -13,6 +13,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
   jq
   nodejs                                       # the report page's build (npm: three.js, esbuild)
+  python3-dev pybind11-dev                     # the Python module
   python3 python3-pytest python3-numpy ffmpeg  # Python tests (tests/python), video test input
   chromium                                     # the report page's browser test
 )

@@ -121,30 +121,48 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
 
 }  // namespace
 
-void ApplyOptionsYaml(const std::filesystem::path& path, SystemOptions* options) {
-  const YAML::Node root = LoadYamlFile(path);
+namespace {
+
+// `source` names the options in messages (a file, or "options").
+void ApplyOptionsNode(const YAML::Node& root, const std::filesystem::path& source, SystemOptions* options) {
   if (root.IsNull()) return;
-  if (!root.IsMap()) throw InputError(path.string() + ": expected a mapping of sections");
+  if (!root.IsMap()) throw InputError(source.string() + ": expected a mapping of sections");
   const auto setters = Setters(options);
   for (const auto& section : root) {
-    const std::string name = KeyName(section.first, path);
-    if (!section.second.IsMap()) throw InputError(path.string() + ": section '" + name + "' must be a mapping");
+    const std::string name = KeyName(section.first, source);
+    if (!section.second.IsMap()) throw InputError(source.string() + ": section '" + name + "' must be a mapping");
     for (const auto& kv : section.second) {
-      const std::string key = name + "." + KeyName(kv.first, path);
+      const std::string key = name + "." + KeyName(kv.first, source);
       const auto it = setters.find(key);
-      if (it == setters.end()) throw InputError(path.string() + ": unknown key '" + key + "'");
+      if (it == setters.end()) throw InputError(source.string() + ": unknown key '" + key + "'");
       try {
         it->second(kv.second);
       } catch (const YAML::Exception&) {
-        throw InputError(path.string() + ": key '" + key + "' has the wrong type");
+        throw InputError(source.string() + ": key '" + key + "' has the wrong type");
       }
     }
   }
   try {
     options->Validate();
   } catch (const InputError& e) {
-    throw InputError(path.string() + ": " + e.what());
+    throw InputError(source.string() + ": " + e.what());
   }
+}
+
+}  // namespace
+
+void ApplyOptionsYaml(const std::filesystem::path& path, SystemOptions* options) {
+  ApplyOptionsNode(LoadYamlFile(path), path, options);
+}
+
+void ApplyOptionsText(const std::string& text, const std::string& source, SystemOptions* options) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source + ": not valid YAML (" + e.what() + ")");
+  }
+  ApplyOptionsNode(root, source, options);
 }
 
 }  // namespace dsm

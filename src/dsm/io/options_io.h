@@ -8,11 +8,14 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "dsm/system/options.h"
 
 namespace dsm {
 
 void ApplyOptionsYaml(const std::filesystem::path& path, SystemOptions* options);
+// The same from text (YAML, or JSON, which is YAML too); `source` names it in messages.
+void ApplyOptionsText(const std::string& text, const std::string& source, SystemOptions* options);
 
 }  // namespace dsm

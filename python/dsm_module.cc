@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: MIT
+// Python bindings (pybind11): `import dsm`.
+//   dsm.run(dataset, out="dsm_out", **options) -> dict        as `dsm run`; returns stats.json
+//   dsm.read_dataset(path) -> Dataset                          frames ready for System.process
+//   dsm.System(camera, options=None)                           the system facade, sequential
+//       .process(t_ns, image) -> dict, .finish(), .keyframe_trajectory(), .frame_trajectory(),
+//       .map_points()
+// Trajectories are (N, 8) float64 arrays of t (seconds) x y z qx qy qz qw (world_from_cam); map
+// points (N, 3) float64. Bad input raises dsm.InputError (a ValueError) with dsm's message.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <nlohmann/json.hpp>
+
+#include "dsm/geometry/undistorter.h"
+#include "dsm/io/dataset.h"
+#include "dsm/io/options_io.h"
+#include "dsm/mapping/map_points.h"
+#include "dsm/run/frame_reader.h"
+#include "dsm/run/run.h"
+#include "dsm/system/system.h"
+#include "dsm/util/check.h"
+
+namespace py = pybind11;
+
+namespace dsm {
+namespace {
+
+// Python values as JSON text (json.dumps), which dsm's option parser reads as YAML.
+std::string ToJsonText(const py::object& value) {
+  return py::module_::import("json").attr("dumps")(value).cast<std::string>();
+}
+
+py::object FromJson(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+SystemOptions OptionsFrom(const py::object& options) {
+  SystemOptions o;
+  if (!options.is_none()) ApplyOptionsText(ToJsonText(options), "options", &o);
+  return o;
+}
+
+py::array_t<double> TrajectoryArray(const Trajectory& t) {
+  py::array_t<double> out({static_cast<py::ssize_t>(t.size()), py::ssize_t{8}});
+  auto a = out.mutable_unchecked<2>();
+  for (size_t i = 0; i < t.size(); ++i) {
+    const Eigen::Vector3d p = t.poses[i].Translation();
+    const Eigen::Quaterniond q = t.poses[i].So3().Quaternion();
+    const double row[8] = {1e-9 * static_cast<double>(t.stamps_ns[i]), p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w()};
+    for (int k = 0; k < 8; ++k) a(i, k) = row[k];
+  }
+  return out;
+}
+
+py::dict CameraDict(const PinholeCamera& c) {
+  py::dict d;
+  d["width"] = c.width;
+  d["height"] = c.height;
+  d["fx"] = c.fx;
+  d["fy"] = c.fy;
+  d["cx"] = c.cx;
+  d["cy"] = c.cy;
+  return d;
+}
+
+PinholeCamera CameraFrom(const py::dict& d) {
+  PinholeCamera c;
+  try {
+    c.width = d["width"].cast<int>();
+    c.height = d["height"].cast<int>();
+    c.fx = d["fx"].cast<double>();
+    c.fy = d["fy"].cast<double>();
+    c.cx = d["cx"].cast<double>();
+    c.cy = d["cy"].cast<double>();
+  } catch (const py::error_already_set&) {
+    throw InputError("camera: expected a dict with width, height, fx, fy, cx, cy");
+  } catch (const py::cast_error&) {
+    throw InputError("camera: width, height must be integers and fx, fy, cx, cy numbers");
+  }
+  if (c.width < 16 || c.height < 16 || !(c.fx > 0) || !(c.fy > 0)) throw InputError("camera: implausible values");
+  return c;
+}
+
+py::array_t<float> ImageArray(const Image<float>& image) {
+  py::array_t<float> out({static_cast<py::ssize_t>(image.height()), static_cast<py::ssize_t>(image.width())});
+  auto a = out.mutable_unchecked<2>();
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) a(y, x) = image(x, y);
+  return out;
+}
+
+// A dataset with its undistorter: frame i as System.process takes it.
+struct PyDataset {
+  explicit PyDataset(const std::string& path)
+      : dataset(OpenDataset(path)),
+        undistorter(dataset.camera, {dataset.undistort_mode, 1 << (SystemOptions{}.pyramid_levels - 1)}) {}
+  Dataset dataset;
+  Undistorter undistorter;
+};
+
+struct PyFrame {
+  int index = -1;
+  int64_t t_ns = 0;
+  double exposure_ms = 0.0;
+  py::object image;  // float32 (height, width), or None when the file could not be used ...
+  std::string error; // ... and why.
+};
+
+// The system facade, one thread (each keyframe mapped before process returns: deterministic).
+class PySystem {
+ public:
+  PySystem(const py::dict& camera, const py::object& options)
+      : camera_(CameraFrom(camera)), system_(camera_, OptionsFrom(options)) {}
+
+  py::dict Process(int64_t t_ns, const py::array_t<float, py::array::c_style | py::array::forcecast>& image,
+                   double exposure_ms) {
+    if (image.ndim() != 2 || image.shape(0) != camera_.height || image.shape(1) != camera_.width) {
+      throw InputError("process: image must be a (" + std::to_string(camera_.height) + ", " +
+                       std::to_string(camera_.width) + ") array of grey values");
+    }
+    Image<float> frame(camera_.width, camera_.height);
+    auto a = image.unchecked<2>();
+    for (int y = 0; y < camera_.height; ++y)
+      for (int x = 0; x < camera_.width; ++x) frame(x, y) = a(y, x);
+    FrameReport r;
+    {
+      py::gil_scoped_release release;
+      r = system_.Process(next_index_++, t_ns, frame, exposure_ms);
+    }
+    py::dict d;
+    d["index"] = r.index;
+    d["status"] = TrackingStatusName(r.status);
+    d["keyframe"] = r.keyframe;
+    d["relocalised"] = r.relocalised;
+    d["reason"] = r.reason;
+    d["tracking_ms"] = r.tracking_ms;
+    return d;
+  }
+
+  void Finish() { system_.Finish(); }
+  py::array_t<double> KeyframeTrajectory() const { return TrajectoryArray(system_.KeyframeTrajectory()); }
+  py::array_t<double> FrameTrajectory() const { return TrajectoryArray(system_.FrameTrajectory()); }
+  py::array_t<double> MapPoints() const {
+    const std::vector<LivePoint> points = LivePoints(system_.map(), camera_);
+    py::array_t<double> out({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
+    auto a = out.mutable_unchecked<2>();
+    for (size_t i = 0; i < points.size(); ++i)
+      for (int k = 0; k < 3; ++k) a(i, k) = points[i].world[k];
+    return out;
+  }
+
+ private:
+  PinholeCamera camera_;
+  System system_;
+  int next_index_ = 0;
+};
+
+py::dict Run(const std::string& dataset_path, const std::string& out, const std::string& mode, const std::string& pace,
+             int start, int end, bool global_ba, bool write_map, bool write_report, const py::object& options,
+             bool quiet) {
+  RunOptions o;
+  o.system = OptionsFrom(options);
+  if (mode == "sw") {
+    o.system.mode = MapMode::kSlidingWindow;
+  } else if (mode != "dsm") {
+    throw InputError("mode: expected 'dsm' or 'sw', got '" + mode + "'");
+  }
+  if (pace == "free") {
+    o.pace = Pace::kFree;
+  } else if (pace == "sequential") {
+    o.pace = Pace::kSequential;
+  } else if (pace == "realtime") {
+    o.pace = Pace::kRealtime;
+  } else {
+    throw InputError("pace: expected 'free', 'sequential' or 'realtime', got '" + pace + "'");
+  }
+  o.start = start;
+  o.end = end;
+  o.global_ba = global_ba;
+  o.write_map = write_map;
+  o.write_report = write_report;
+  o.quiet = quiet;
+  const Dataset dataset = OpenDataset(dataset_path);
+  RunSummary summary;
+  {
+    py::gil_scoped_release release;
+    summary = RunDataset(dataset, o, out);
+  }
+  py::dict stats = FromJson(summary.stats);
+  if (summary.eval) stats["eval"] = FromJson(*summary.eval);
+  return stats;
+}
+
+}  // namespace
+}  // namespace dsm
+
+PYBIND11_MODULE(dsm, m) {
+  using namespace dsm;
+  m.doc() = "dsm: monocular visual SLAM by Direct Sparse Mapping";
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+
+  m.def("run", &Run, py::arg("dataset"), py::kw_only(), py::arg("out") = "dsm_out", py::arg("mode") = "dsm",
+        py::arg("pace") = "sequential", py::arg("start") = 0, py::arg("end") = -1, py::arg("global_ba") = false,
+        py::arg("write_map") = true, py::arg("write_report") = true, py::arg("options") = py::none(),
+        py::arg("quiet") = true,
+        "Runs SLAM over a dataset folder or video as `dsm run` does (default pace: sequential, deterministic) and "
+        "returns stats.json as a dict (with 'eval' when the dataset has ground truth). `options`: a dict of option "
+        "sections, as in a --config file, e.g. {'window': {'temporal_keyframes': 5}}.");
+
+  py::class_<PyFrame>(m, "Frame")
+      .def_readonly("index", &PyFrame::index)
+      .def_readonly("t_ns", &PyFrame::t_ns)
+      .def_readonly("exposure_ms", &PyFrame::exposure_ms)
+      .def_readonly("image", &PyFrame::image)
+      .def_readonly("error", &PyFrame::error);
+
+  py::class_<PyDataset>(m, "Dataset")
+      .def("__len__", [](const PyDataset& d) { return d.dataset.size(); })
+      .def("__getitem__",
+           [](const PyDataset& d, py::ssize_t i) {
+             const auto n = static_cast<py::ssize_t>(d.dataset.size());
+             if (i < 0) i += n;
+             if (i < 0 || i >= n) throw py::index_error("frame index out of range");
+             FrameOrError f;
+             {
+               py::gil_scoped_release release;
+               f = TryReadFrame(d.dataset, d.undistorter, static_cast<int>(i));
+             }
+             PyFrame frame;
+             frame.index = static_cast<int>(i);
+             frame.t_ns = d.dataset.frames[i].t_ns;
+             frame.exposure_ms = d.dataset.frames[i].exposure_ms;
+             frame.image = f.error.empty() ? py::object(ImageArray(f.image)) : py::none();
+             frame.error = f.error;
+             return frame;
+           })
+      .def_property_readonly("camera", [](const PyDataset& d) { return CameraDict(d.undistorter.output()); },
+                             "The undistorted pinhole camera the frames are in (System's camera)")
+      .def_property_readonly("format", [](const PyDataset& d) { return d.dataset.format; })
+      .def_property_readonly("ground_truth", [](const PyDataset& d) { return TrajectoryArray(d.dataset.ground_truth); });
+  m.def("read_dataset", [](const std::string& path) { return std::make_unique<PyDataset>(path); }, py::arg("path"),
+        "Opens a dataset folder (EuRoC, TUM, KITTI, generic). Indexing or iterating gives Frame objects whose image is "
+        "undistorted and photometrically corrected (float32), ready for System.process.");
+
+  py::class_<PySystem>(m, "System")
+      .def(py::init<const py::dict&, const py::object&>(), py::arg("camera"), py::arg("options") = py::none(),
+           "camera: dict width, height, fx, fy, cx, cy (an undistorted pinhole camera, e.g. Dataset.camera); "
+           "options: dict of option sections")
+      .def("process", &PySystem::Process, py::arg("t_ns"), py::arg("image"), py::arg("exposure_ms") = 0.0,
+           "Tracks (and maps) one frame: image (height, width), grey values; returns status, keyframe, ...")
+      .def("finish", &PySystem::Finish)
+      .def("keyframe_trajectory", &PySystem::KeyframeTrajectory)
+      .def("frame_trajectory", &PySystem::FrameTrajectory)
+      .def("map_points", &PySystem::MapPoints);
+}

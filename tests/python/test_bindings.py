@@ -1,0 +1,86 @@
+# SPDX-License-Identifier: MIT
+"""The Python module: the README's example as written, System against the command line, errors."""
+import json
+import os
+import pathlib
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import dsm
+
+README = pathlib.Path(__file__).resolve().parents[2] / "README.md"
+
+
+def readme_example():
+    text = README.read_text()
+    match = re.search(r"<!-- python-example -->\s*```python\n(.*?)```", text, re.S)
+    assert match, "README.md has no python-example block"
+    return match.group(1)
+
+
+def test_readme_example_runs_as_written(dsm_bin, tmp_path):
+    subprocess.run([dsm_bin, "synth", "--scene", "loop", "--frames", "100", "--width", "320", "--height", "240",
+                    "--out", str(tmp_path / "demo_out" / "loop")], check=True, capture_output=True)
+    code = readme_example()
+    assert len(code.strip().splitlines()) <= 12
+    env = dict(os.environ)
+    result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    first, second = result.stdout.strip().splitlines()
+    keyframe_shape, points_shape = re.findall(r"\((\d+), (\d+)\)", first)
+    assert int(keyframe_shape[0]) > 5 and keyframe_shape[1] == "8"
+    assert int(points_shape[0]) > 1000 and points_shape[1] == "3"
+    tracked, ate = second.split()
+    assert int(tracked) == 100
+    assert float(ate) < 0.005  # metres
+    assert (tmp_path / "demo_out" / "py_run" / "report.html").exists()
+
+
+def test_system_gives_what_the_command_line_gives(synthetic_run):
+    out, stats = synthetic_run
+    dataset = dsm.read_dataset(str(out.parent / "scene"))
+    assert len(dataset) == 120 and dataset.format == "folder"
+    assert dataset.ground_truth.shape == (120, 8)
+    system = dsm.System(dataset.camera)
+    reports = [system.process(frame.t_ns, frame.image) for frame in dataset]
+    system.finish()
+    # Keyframe 0 (the start's first frame) is made by the frame that starts the map, which reports keyframe 1.
+    assert sum(r["keyframe"] for r in reports) == stats["keyframes"] - 1
+    keyframes = system.keyframe_trajectory()
+    cli = np.loadtxt(out / "keyframes.tum")
+    assert keyframes.shape == cli.shape
+    np.testing.assert_allclose(keyframes[:, 1:], cli[:, 1:], rtol=0, atol=1e-8)  # Same run, printed to 9 decimals.
+    np.testing.assert_allclose(keyframes[:, 0], cli[:, 0], rtol=0, atol=1e-6)
+    assert system.frame_trajectory().shape == (stats["frames_tracked"], 8)
+    assert system.map_points().shape == (stats["map_points"], 3)
+
+
+def test_run_returns_the_stats(synthetic_run, tmp_path):
+    out, _ = synthetic_run
+    stats = dsm.run(str(out.parent / "scene"), out=str(tmp_path / "run"), end=40, write_report=False,
+                    options={"window": {"temporal_keyframes": 5}})
+    assert stats["frames"] == 40 and stats["pace"] == "sequential"
+    assert stats == {**json.loads((tmp_path / "run" / "stats.json").read_text()), "eval": stats["eval"]}
+    assert not (tmp_path / "run" / "report.html").exists()
+
+
+def test_bad_input_raises_with_dsm_message(synthetic_run, tmp_path):
+    out, _ = synthetic_run
+    with pytest.raises(dsm.InputError, match="no_such_folder"):
+        dsm.read_dataset(str(tmp_path / "no_such_folder"))
+    camera = {"width": 320, "height": 240, "fx": 192.0, "fy": 192.0, "cx": 159.5, "cy": 119.5}
+    with pytest.raises(ValueError, match="window.nope"):
+        dsm.System(camera, {"window": {"nope": 1}})
+    with pytest.raises(ValueError, match="camera"):
+        dsm.System({"width": 320})
+    system = dsm.System(camera)
+    with pytest.raises(ValueError, match=r"\(240, 320\)"):
+        system.process(0, np.zeros((10, 10)))
+    with pytest.raises(ValueError, match="pace"):
+        dsm.run(str(out.parent / "scene"), out=str(tmp_path / "x"), pace="fast")
+    # uint8 images are taken as grey values too.
+    assert system.process(0, np.full((240, 320), 128, np.uint8))["status"] == "initializing"
