@@ -201,6 +201,11 @@ TEST(Cli, RunPrintsProgressLinesUnlessQuiet) {
   ASSERT_EQ(quiet.code, 0) << quiet.output;
   EXPECT_FALSE(Contains(quiet.output, "frame 1/30")) << quiet.output;
   EXPECT_TRUE(Contains(quiet.output, "30/30 frames tracked")) << quiet.output;
+  // Three frames: the map never starts, and every output is still written.
+  const Result short_run = RunDsm(run + " --end 3 --quiet");
+  ASSERT_EQ(short_run.code, 0) << short_run.output;
+  for (const char* file : {"keyframes.tum", "frames.tum", "stats.json", "map.ply", "keyframes.ply", "report.html"})
+    EXPECT_TRUE(fs::exists(dir / "out" / file)) << file;
   const Result bad = RunDsm(run + " --progress-interval -1");
   EXPECT_EQ(bad.code, 2);
   EXPECT_TRUE(Contains(bad.output, "--progress-interval")) << bad.output;

@@ -46,6 +46,17 @@ T Get(const json& j, const char* key, T fallback) {
   return j.contains(key) && !j[key].is_null() ? j[key].get<T>() : fallback;
 }
 
+// A trajectory the run wrote; one with no poses (the map never started, or an interrupted run) is
+// empty, a missing one an InputError naming it.
+Trajectory ReadRunTrajectory(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string() + ": missing (is this a dsm run's output folder?)");
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] != '#') return ReadTrajectory(path, TrajectoryFormat::kTum);
+  }
+  return {};
+}
+
 double Seconds(int64_t t_ns, int64_t t0_ns) { return 1e-9 * static_cast<double>(t_ns - t0_ns); }
 
 json PointsOf(const fs::path& ply) {
@@ -65,7 +76,7 @@ json PointsOf(const fs::path& ply) {
 json MapOf(const fs::path& dir, const std::string& name, const json& per_keyframe, int64_t t0_ns, json* errors,
            int map_index) {
   json m = {{"dir", name}, {"points", PointsOf(dir / "map.ply")}};
-  const Trajectory keyframes = ReadTrajectory(dir / "keyframes.tum", TrajectoryFormat::kTum);
+  const Trajectory keyframes = ReadRunTrajectory(dir / "keyframes.tum");
   json kfs = json::array(), links = json::array();
   for (size_t k = 0; k < keyframes.size(); ++k) {
     const json row = k < per_keyframe.size() ? per_keyframe[k] : json::object();
@@ -78,8 +89,8 @@ json MapOf(const fs::path& dir, const std::string& name, const json& per_keyfram
   m["covisibility"] = links;
   m["groundtruth"] = json::array();
   if (!fs::exists(dir / "groundtruth_in_map.tum") || !fs::exists(dir / "frames.tum")) return m;
-  const Trajectory gt = ReadTrajectory(dir / "groundtruth_in_map.tum", TrajectoryFormat::kTum);
-  const Trajectory frames = ReadTrajectory(dir / "frames.tum", TrajectoryFormat::kTum);
+  const Trajectory gt = ReadRunTrajectory(dir / "groundtruth_in_map.tum");
+  const Trajectory frames = ReadRunTrajectory(dir / "frames.tum");
   for (size_t k = 0; k < gt.size(); ++k) {
     const Eigen::Vector3d p = gt.poses[k].Translation();
     m["groundtruth"].push_back({Seconds(gt.stamps_ns[k], t0_ns), p.x(), p.y(), p.z()});
@@ -139,13 +150,17 @@ json ReportData(const fs::path& run_dir) {
 
   // The maps, each with its rows of per_keyframe (listed map after map).
   const json maps = Get(stats, "maps", json::array({{{"dir", "."}}}));
+  // Times from the first map's first tracked frame (or keyframe).
   int64_t t0_ns = 0;
   {
-    const fs::path first = run_dir / maps[0].value("dir", ".") / "keyframes.tum";
-    if (!fs::exists(first)) throw InputError(first.string() + ": missing (is this a dsm run's output folder?)");
-    const fs::path frames = run_dir / maps[0].value("dir", ".") / "frames.tum";
-    const Trajectory t = ReadTrajectory(fs::exists(frames) ? frames : first, TrajectoryFormat::kTum);
-    t0_ns = t.stamps_ns.front();
+    const fs::path dir = run_dir / maps[0].value("dir", ".");
+    const Trajectory keyframes = ReadRunTrajectory(dir / "keyframes.tum");
+    const Trajectory frames = fs::exists(dir / "frames.tum") ? ReadRunTrajectory(dir / "frames.tum") : Trajectory{};
+    if (!frames.empty()) {
+      t0_ns = frames.stamps_ns.front();
+    } else if (!keyframes.empty()) {
+      t0_ns = keyframes.stamps_ns.front();
+    }
   }
   data["maps"] = json::array();
   data["errors"] = json::array();

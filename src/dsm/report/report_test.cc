@@ -99,6 +99,20 @@ TEST(Report, PageInlinesDataAndScriptSafely) {
   EXPECT_NE(ReportPage(data, true).find("data-live=\"1\""), std::string::npos);
 }
 
+// A run whose map never started (or was interrupted before it did) writes empty trajectories.
+TEST(Report, RunWithoutAMap) {
+  const fs::path dir = testing::ScratchDir("report_no_map");
+  WriteTumTrajectory(dir / "keyframes.tum", Trajectory{});
+  WriteTumTrajectory(dir / "frames.tum", Trajectory{});
+  std::ofstream(dir / "stats.json") << json{{"frames", 3}, {"keyframes", 0}, {"maps", {{{"dir", "."}}}}}.dump();
+  const json d = ReportData(dir);
+  ASSERT_EQ(d["maps"].size(), 1u);
+  EXPECT_TRUE(d["maps"][0]["keyframes"].empty());
+  EXPECT_EQ(d["maps"][0]["points"]["count"], 0);
+  EXPECT_TRUE(d["errors"].empty());
+  EXPECT_NO_THROW(ReportPage(d));
+}
+
 TEST(Report, MissingOutputsAreNamed) {
   const fs::path dir = testing::ScratchDir("report_missing");
   try {
