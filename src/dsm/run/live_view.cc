@@ -45,6 +45,8 @@ void LiveView::Frame(const System& system, const FrameReport& report, int index,
 
 void LiveView::Finish(const System& system) {
   summary_["state"] = "finished";
+  // The frames before the map started count as tracked once it has (System::Finish placed them).
+  summary_["frames_tracked"] = system.stats().frames_tracked;
   Publish(system);
 }
 

@@ -32,7 +32,7 @@ class LiveView {
   // Frame `index` was processed (map_index: which map of the run it went to).
   void Frame(const System& system, const FrameReport& report, int index, int map_index, double elapsed_s,
              double recording_s);
-  // Publishes the last state now (the run has ended).
+  // Publishes the last state now (the run has ended; call System::Finish first).
   void Finish(const System& system);
 
  private:
