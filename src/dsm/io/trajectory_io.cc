@@ -2,6 +2,7 @@
 #include "dsm/io/trajectory_io.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
@@ -40,6 +41,20 @@ TrajectoryFormat DetectTrajectoryFormat(const std::filesystem::path& path) {
   throw InputError(path.string() + ": the trajectory file has no poses");
 }
 
+namespace {
+
+// A rotation's quaternion, normalised when the pose is made: not zero, and not so large that its
+// norm overflows (a component of 1e154 squares to infinity, and normalising gives no rotation).
+void CheckQuaternion(const Eigen::Quaterniond& q, const std::string& where) {
+  const double norm = q.norm();
+  if (norm < 1e-6) throw InputError(where + ": the quaternion is zero");
+  if (!std::isfinite(norm) || norm > 1e6) {
+    throw InputError(where + ": the quaternion's norm is implausible (" + std::to_string(norm) + ")");
+  }
+}
+
+}  // namespace
+
 Trajectory ReadTrajectory(const std::filesystem::path& path, TrajectoryFormat format) {
   Trajectory traj;
   for (const DataRow& row : ReadDataRows(path, format == TrajectoryFormat::kEuroc ? ", \t" : " \t")) {
@@ -50,14 +65,14 @@ Trajectory ReadTrajectory(const std::filesystem::path& path, TrajectoryFormat fo
       case TrajectoryFormat::kTum: {
         if (f.size() != 8) throw InputError(where + ": a tum pose has 8 fields, found " + std::to_string(f.size()));
         const Eigen::Quaterniond q(num(7), num(4), num(5), num(6));
-        if (q.norm() < 1e-6) throw InputError(where + ": the quaternion is zero");
+        CheckQuaternion(q, where);
         traj.Add(ParseTimestampNs(f[0], 1000000000, where), SE3d(q, {num(1), num(2), num(3)}));
         break;
       }
       case TrajectoryFormat::kEuroc: {
         if (f.size() < 8) throw InputError(where + ": a euroc pose has at least 8 fields, found " + std::to_string(f.size()));
         const Eigen::Quaterniond q(num(4), num(5), num(6), num(7));
-        if (q.norm() < 1e-6) throw InputError(where + ": the quaternion is zero");
+        CheckQuaternion(q, where);
         traj.Add(ParseTimestampNs(f[0], 1, where), SE3d(q, {num(1), num(2), num(3)}));
         break;
       }

@@ -58,6 +58,15 @@ TEST(TrajectoryIo, MalformedFilesNameFileAndLine) {
   EXPECT_THROW(ReadTrajectory(dir / "empty.tum", TrajectoryFormat::kTum), InputError);
   WriteText(dir / "zeroq.tum", "0 0 0 0 0 0 0 0\n");
   EXPECT_THROW(ReadTrajectory(dir / "zeroq.tum", TrajectoryFormat::kTum), InputError);
+  // A quaternion whose squared norm overflows: normalising it would give no rotation at all.
+  WriteText(dir / "hugeq.csv", "1403636584213555456,4.7,0.9,0.5,-2.066935e154,-0.15,-0.83,-0.08\n");
+  try {
+    ReadTrajectory(dir / "hugeq.csv", TrajectoryFormat::kEuroc);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("hugeq.csv:1: the quaternion's norm is implausible"), std::string::npos)
+        << e.what();
+  }
   EXPECT_THROW(ReadTrajectory(dir / "missing.tum", TrajectoryFormat::kTum), InputError);
   EXPECT_THROW(ParseTrajectoryFormat("csv", "--ref-format"), InputError);
 }
