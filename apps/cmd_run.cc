@@ -60,13 +60,7 @@ Command AddRun(CLI::App& app) {
   AddVideoOptions(app, &a->video);
   return [a] {
     RunOptions options;
-    if (a->mode == "sw") {
-      options.system.mode = MapMode::kSlidingWindow;
-    } else if (a->mode == "dsm") {
-      options.system.mode = MapMode::kFull;
-    } else {
-      throw InputError("--mode: expected sw or dsm, got '" + a->mode + "'");
-    }
+    options.system.mode = ParseMapMode(a->mode, "--mode");
     if (!a->config.empty()) ApplyOptionsYaml(a->config, &options.system);
     SystemOptions& o = options.system;
     if (a->nt >= 0) o.window.temporal_keyframes = a->nt;

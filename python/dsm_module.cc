@@ -93,7 +93,7 @@ py::array_t<float> ImageArray(const Image<float>& image) {
 struct PyDataset {
   explicit PyDataset(const std::string& path)
       : dataset(OpenDataset(path)),
-        undistorter(dataset.camera, {dataset.undistort_mode, 1 << (SystemOptions{}.pyramid_levels - 1)}) {}
+        undistorter(FrameUndistorter(dataset, SystemOptions{})) {}
   Dataset dataset;
   Undistorter undistorter;
 };
@@ -160,20 +160,8 @@ py::dict Run(const std::string& dataset_path, const std::string& out, const std:
              bool quiet) {
   RunOptions o;
   o.system = OptionsFrom(options);
-  if (mode == "sw") {
-    o.system.mode = MapMode::kSlidingWindow;
-  } else if (mode != "dsm") {
-    throw InputError("mode: expected 'dsm' or 'sw', got '" + mode + "'");
-  }
-  if (pace == "free") {
-    o.pace = Pace::kFree;
-  } else if (pace == "sequential") {
-    o.pace = Pace::kSequential;
-  } else if (pace == "realtime") {
-    o.pace = Pace::kRealtime;
-  } else {
-    throw InputError("pace: expected 'free', 'sequential' or 'realtime', got '" + pace + "'");
-  }
+  o.system.mode = ParseMapMode(mode, "mode");
+  o.pace = ParsePace(pace, "pace");
   o.start = start;
   o.end = end;
   o.global_ba = global_ba;

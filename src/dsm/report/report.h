@@ -45,6 +45,9 @@ std::string ReportPage(const nlohmann::json& data, bool live = false);
 // Writes run_dir/report.html from the run's outputs.
 void WriteReport(const std::filesystem::path& run_dir);
 
+// The page's title for a dataset path: its folder's (or video file's) name.
+std::string ReportTitle(const std::filesystem::path& dataset);
+
 // Parts of the document, for its other builder (the live viewer, run/live_view.h):
 // {count, xyz, grey} from x y z triples and grey values ...
 nlohmann::json PointsJson(const std::vector<float>& xyz, const std::vector<uint8_t>& grey);

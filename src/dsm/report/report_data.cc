@@ -72,11 +72,25 @@ json PointsOf(const fs::path& ply) {
   return PointsJson(xyz, grey);
 }
 
+// What the report reads of one map's folder.
+struct MapFiles {
+  Trajectory keyframes, frames;  // frames: empty when the file is missing.
+  json eval;                     // eval.json, or null.
+};
+
+MapFiles ReadMapFiles(const fs::path& dir) {
+  MapFiles f;
+  f.keyframes = ReadRunTrajectory(dir / "keyframes.tum");
+  if (fs::exists(dir / "frames.tum")) f.frames = ReadRunTrajectory(dir / "frames.tum");
+  if (fs::exists(dir / "eval.json")) f.eval = ReadJson(dir / "eval.json");
+  return f;
+}
+
 // One map's part of the document; `per_keyframe`: its keyframes' rows of stats.json.
-json MapOf(const fs::path& dir, const std::string& name, const json& per_keyframe, int64_t t0_ns, json* errors,
-           int map_index) {
+json MapOf(const fs::path& dir, const std::string& name, const MapFiles& files, const json& per_keyframe,
+           int64_t t0_ns, json* errors, int map_index) {
   json m = {{"dir", name}, {"points", PointsOf(dir / "map.ply")}};
-  const Trajectory keyframes = ReadRunTrajectory(dir / "keyframes.tum");
+  const Trajectory& keyframes = files.keyframes;
   json kfs = json::array(), links = json::array();
   for (size_t k = 0; k < keyframes.size(); ++k) {
     const json row = k < per_keyframe.size() ? per_keyframe[k] : json::object();
@@ -88,17 +102,16 @@ json MapOf(const fs::path& dir, const std::string& name, const json& per_keyfram
   m["keyframes"] = kfs;
   m["covisibility"] = links;
   m["groundtruth"] = json::array();
-  if (!fs::exists(dir / "groundtruth_in_map.tum") || !fs::exists(dir / "frames.tum")) return m;
+  if (!fs::exists(dir / "groundtruth_in_map.tum") || files.frames.empty()) return m;
   const Trajectory gt = ReadRunTrajectory(dir / "groundtruth_in_map.tum");
-  const Trajectory frames = ReadRunTrajectory(dir / "frames.tum");
+  const Trajectory& frames = files.frames;
   for (size_t k = 0; k < gt.size(); ++k) {
     const Eigen::Vector3d p = gt.poses[k].Translation();
     m["groundtruth"].push_back({Seconds(gt.stamps_ns[k], t0_ns), p.x(), p.y(), p.z()});
   }
   // Errors: the frame and the ground-truth row of the same stamp, in the map's units times the
   // alignment's scale (metres per map unit).
-  double scale = 1.0;
-  if (fs::exists(dir / "eval.json")) scale = Get(ReadJson(dir / "eval.json")["frames"], "scale", 1.0);
+  const double scale = files.eval.contains("frames") ? Get(files.eval["frames"], "scale", 1.0) : 1.0;
   json t = json::array(), error_mm = json::array();
   size_t g = 0;
   for (size_t f = 0; f < frames.size() && g < gt.size(); ++f) {
@@ -112,6 +125,10 @@ json MapOf(const fs::path& dir, const std::string& name, const json& per_keyfram
 }
 
 }  // namespace
+
+std::string ReportTitle(const fs::path& dataset) {
+  return (dataset.filename().empty() ? dataset.parent_path() : dataset).filename().string();
+}
 
 json PointsJson(const std::vector<float>& xyz, const std::vector<uint8_t>& grey) {
   return {{"count", grey.size()}, {"xyz", Base64(xyz.data(), xyz.size() * sizeof(float))},
@@ -128,8 +145,7 @@ json ReportData(const fs::path& run_dir) {
   const json stats = ReadJson(run_dir / "stats.json");
   json data;
   const std::string dataset = Get(stats, "dataset", std::string());
-  data["title"] = dataset.empty() ? run_dir.filename().string() : fs::path(dataset).filename().string();
-  if (data["title"] == "") data["title"] = fs::path(dataset).parent_path().filename().string();
+  data["title"] = ReportTitle(dataset.empty() ? run_dir : fs::path(dataset));
   json summary;
   for (const char* key : {"frames", "frames_tracked", "keyframes", "map_points", "mode", "pace", "frames_per_second",
                           "realtime_factor", "frames_lost", "relocalisations", "interrupted"})
@@ -150,33 +166,28 @@ json ReportData(const fs::path& run_dir) {
 
   // The maps, each with its rows of per_keyframe (listed map after map).
   const json maps = Get(stats, "maps", json::array({{{"dir", "."}}}));
-  // Times from the first map's first tracked frame (or keyframe).
-  int64_t t0_ns = 0;
-  {
-    const fs::path dir = run_dir / maps[0].value("dir", ".");
-    const Trajectory keyframes = ReadRunTrajectory(dir / "keyframes.tum");
-    const Trajectory frames = fs::exists(dir / "frames.tum") ? ReadRunTrajectory(dir / "frames.tum") : Trajectory{};
-    if (!frames.empty()) {
-      t0_ns = frames.stamps_ns.front();
-    } else if (!keyframes.empty()) {
-      t0_ns = keyframes.stamps_ns.front();
-    }
-  }
   data["maps"] = json::array();
   data["errors"] = json::array();
+  int64_t t0_ns = 0;  // Times from the first map's first tracked frame (or keyframe).
   size_t row = 0;
   for (size_t k = 0; k < maps.size(); ++k) {
     const std::string name = maps[k].value("dir", ".");
+    const MapFiles files = ReadMapFiles(run_dir / name);
+    if (k == 0) {
+      if (!files.frames.empty()) {
+        t0_ns = files.frames.stamps_ns.front();
+      } else if (!files.keyframes.empty()) {
+        t0_ns = files.keyframes.stamps_ns.front();
+      }
+      if (files.eval.contains("keyframes")) {
+        summary["keyframe_ate_mm"] = 1000.0 * files.eval["keyframes"]["ape"]["rmse"].get<double>();
+      }
+    }
     const size_t n = Get(maps[k], "keyframes", rows.size());
     json slice = json::array();
     for (size_t i = row; i < std::min(rows.size(), row + n); ++i) slice.push_back(rows[i]);
     row += n;
-    data["maps"].push_back(MapOf(run_dir / name, name, slice, t0_ns, &data["errors"], static_cast<int>(k)));
-  }
-  const fs::path eval = run_dir / maps[0].value("dir", ".") / "eval.json";
-  if (fs::exists(eval)) {
-    const json e = ReadJson(eval);
-    if (e.contains("keyframes")) summary["keyframe_ate_mm"] = 1000.0 * e["keyframes"]["ape"]["rmse"].get<double>();
+    data["maps"].push_back(MapOf(run_dir / name, name, files, slice, t0_ns, &data["errors"], static_cast<int>(k)));
   }
   data["summary"] = summary;
   return data;

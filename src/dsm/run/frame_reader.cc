@@ -9,6 +9,10 @@
 
 namespace dsm {
 
+Undistorter FrameUndistorter(const Dataset& dataset, const SystemOptions& options) {
+  return Undistorter(dataset.camera, {dataset.undistort_mode, 1 << (options.pyramid_levels - 1)});
+}
+
 FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i) {
   FrameOrError out;
   try {

@@ -20,6 +20,7 @@
 #include "dsm/geometry/undistorter.h"
 #include "dsm/image/image.h"
 #include "dsm/io/dataset.h"
+#include "dsm/system/options.h"
 
 namespace dsm {
 
@@ -30,6 +31,9 @@ struct FrameOrError {
   std::string error;  // Empty: `image` is the frame.
 };
 FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i);
+// The undistorter of `dataset`'s frames for a System with `options`: the dataset's mode, an output
+// size that divides by 2^(pyramid_levels - 1).
+Undistorter FrameUndistorter(const Dataset& dataset, const SystemOptions& options);
 
 class FrameReader {
  public:

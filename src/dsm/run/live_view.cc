@@ -13,44 +13,22 @@ LiveView::LiveView(int port, const Dataset& dataset, Context context) : dataset_
                                    {"mode", context_.mode}, {"pace", context_.pace}, {"state", "starting"}}},
                       {"maps", json::array()}, {"errors", json::array()}, {"lost_episodes", json::array()}};
   server_ = std::make_unique<LiveServer>(port, ReportPage(empty, /*live=*/true));
-  summary_ = empty["summary"];
-  summary_["frames_lost"] = summary_["relocalisations"] = 0;
 }
 
-void LiveView::Frame(const System& system, const FrameReport& report, int index, int map_index, double elapsed_s,
-                     double recording_s) {
-  per_frame_["frame"].push_back(index);
-  per_frame_["tracking_ms"].push_back(report.tracking_ms);
+void LiveView::Frame(const System& system, const ProgressState& progress, const json& per_frame, int map_index) {
+  progress_ = progress;
   map_index_ = map_index;
-  const bool lost = report.status == TrackingStatus::kLost;
-  if (lost) {
-    if (!lost_episodes_.empty() && lost_episodes_.back().second + 1 >= index) {
-      lost_episodes_.back().second = index;
-    } else {
-      lost_episodes_.push_back({index, index});
-    }
-  }
-  json& s = summary_;
-  s["frames"] = s["frames"].get<int>() + 1;
-  s["frames_tracked"] = s["frames_tracked"].get<int>() + (report.status == TrackingStatus::kOk);
-  s["frames_lost"] = s["frames_lost"].get<int>() + lost;
-  s["relocalisations"] = s["relocalisations"].get<int>() + report.relocalised;
-  s["frames_per_second"] = elapsed_s > 0.0 ? s["frames"].get<int>() / elapsed_s : 0.0;
-  if (recording_s > 0.0 && elapsed_s > 0.0) s["realtime_factor"] = recording_s / elapsed_s;
-  s["state"] = report.status == TrackingStatus::kOk ? "tracking" : lost ? "lost" : "initialising";
-  if (elapsed_s - last_publish_s_ < context_.interval_s) return;
-  last_publish_s_ = elapsed_s;
-  Publish(system);
+  if (progress.elapsed_s - last_publish_s_ < context_.interval_s) return;
+  last_publish_s_ = progress.elapsed_s;
+  Publish(system, per_frame);
 }
 
-void LiveView::Finish(const System& system) {
-  summary_["state"] = "finished";
-  // The frames before the map started count as tracked once it has (System::Finish placed them).
-  summary_["frames_tracked"] = system.stats().frames_tracked;
-  Publish(system);
+void LiveView::Finish(const System& system, const json& per_frame) {
+  progress_.state = "finished";
+  Publish(system, per_frame);
 }
 
-void LiveView::Publish(const System& system) {
+void LiveView::Publish(const System& system, const json& per_frame) {
   const std::shared_ptr<const MapSnapshot> snapshot = system.TrackedMapSnapshot();
   json map = {{"dir", map_index_ == 0 ? "." : "map_" + std::to_string(map_index_)},
               {"keyframes", json::array()}, {"covisibility", json::array()}, {"groundtruth", json::array()}};
@@ -70,13 +48,19 @@ void LiveView::Publish(const System& system) {
     for (const auto& [a, b] : snapshot->covisibility) map["covisibility"].push_back({a, b});
   }
   map["points"] = PointsJson(xyz, grey);
-  json document = {{"title", context_.title}, {"camera", context_.camera}, {"maps", json::array({map})},
-                   {"errors", json::array()}, {"per_frame", per_frame_}, {"lost_episodes", lost_episodes_}};
-  json summary = summary_;
+  const SystemStats& stats = system.stats();
   const System::MapSize size = system.TrackedMapSize();
-  summary["keyframes"] = size.keyframes;
-  summary["map_points"] = size.points;
-  document["summary"] = summary;
+  json summary = {{"frames", stats.frames}, {"frames_tracked", stats.frames_tracked}, {"keyframes", size.keyframes},
+                  {"map_points", size.points}, {"mode", context_.mode}, {"pace", context_.pace},
+                  {"frames_lost", stats.frames_lost}, {"relocalisations", stats.relocalisations},
+                  {"state", progress_.state}};
+  if (progress_.elapsed_s > 0.0) {
+    summary["frames_per_second"] = progress_.done / progress_.elapsed_s;
+    if (progress_.recording_s > 0.0) summary["realtime_factor"] = progress_.recording_s / progress_.elapsed_s;
+  }
+  json document = {{"title", context_.title}, {"camera", context_.camera}, {"summary", summary},
+                   {"maps", json::array({map})}, {"errors", json::array()}, {"per_frame", per_frame},
+                   {"lost_episodes", stats.lost_episodes}};
   if (const std::optional<SE3d> pose = system.LastFramePose()) {
     const json kf = KeyframeJson(-1, -1, 0.0, *pose);
     document["current"] = {{"p", kf["p"]}, {"q", kf["q"]}};

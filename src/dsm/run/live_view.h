@@ -3,7 +3,9 @@
 // After each frame the run's thread hands its report here; at most every `interval_s` (and at the
 // end) a document in the report's layout (report/report.h) is published: the map as the tracking
 // side last took it over (System::TrackedMapSnapshot, so it is safe in every pace), the camera of
-// the last tracked frame ("current": {p, q}), and the run's counts and tracking times so far.
+// the last tracked frame ("current": {p, q}), and the counts and tracking times so far. The frame
+// counts and lost episodes are the system's own (SystemStats fields the tracking side keeps: safe
+// to read between Process calls), so they are those of the current map.
 #pragma once
 
 #include <memory>
@@ -14,6 +16,7 @@
 
 #include "dsm/io/dataset.h"
 #include "dsm/report/live_server.h"
+#include "dsm/run/progress.h"
 #include "dsm/system/system.h"
 
 namespace dsm {
@@ -29,21 +32,19 @@ class LiveView {
   LiveView(int port, const Dataset& dataset, Context context);
   int port() const { return server_->port(); }
 
-  // Frame `index` was processed (map_index: which map of the run it went to).
-  void Frame(const System& system, const FrameReport& report, int index, int map_index, double elapsed_s,
-             double recording_s);
+  // After each frame: `progress` as the console shows it, the run's per-frame tracking times
+  // ({frame, tracking_ms}), `map_index`: which map of the run the system is.
+  void Frame(const System& system, const ProgressState& progress, const nlohmann::json& per_frame, int map_index);
   // Publishes the last state now (the run has ended; call System::Finish first).
-  void Finish(const System& system);
+  void Finish(const System& system, const nlohmann::json& per_frame);
 
  private:
-  void Publish(const System& system);
+  void Publish(const System& system, const nlohmann::json& per_frame);
 
   const Dataset& dataset_;
   Context context_;
   std::unique_ptr<LiveServer> server_;
-  nlohmann::json per_frame_ = {{"frame", nlohmann::json::array()}, {"tracking_ms", nlohmann::json::array()}};
-  nlohmann::json summary_;
-  std::vector<std::pair<int, int>> lost_episodes_;
+  ProgressState progress_;
   int map_index_ = 0;
   double last_publish_s_ = -1e9;
 };

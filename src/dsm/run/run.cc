@@ -133,10 +133,8 @@ double RecordingSpan(const Dataset& dataset, int first, int last) {
   return 1e-9 * static_cast<double>(dataset.frames[last].t_ns - dataset.frames[first].t_ns) * n / (n - 1);
 }
 
-// A name for the dataset: its folder's (or video file's) name.
-std::string DatasetTitle(const Dataset& dataset) {
-  const fs::path root = dataset.root.filename().empty() ? dataset.root.parent_path() : dataset.root;
-  return root.filename().string();
+nlohmann::json CameraJson(const PinholeCamera& c) {
+  return {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy}};
 }
 
 // The stats of all maps as one: counts summed, per-frame and per-keyframe lists concatenated.
@@ -168,6 +166,12 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
 }
 
 }  // namespace
+
+Pace ParsePace(const std::string& name, const std::string& where) {
+  for (Pace pace : {Pace::kFree, Pace::kSequential, Pace::kRealtime})
+    if (name == PaceName(pace)) return pace;
+  throw InputError(where + ": expected free, sequential or realtime, got '" + name + "'");
+}
 
 std::string PaceName(Pace pace) {
   switch (pace) {
@@ -204,7 +208,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   system_options.threaded = options.pace != Pace::kSequential;
   system_options.wait_for_mapping = options.pace != Pace::kRealtime;
   system_options.map_snapshots = options.view_port >= 0;
-  const Undistorter undistorter(dataset.camera, {dataset.undistort_mode, 1 << (options.system.pyramid_levels - 1)});
+  const Undistorter undistorter = FrameUndistorter(dataset, options.system);
   auto system = std::make_unique<System>(undistorter.output(), system_options);
   std::vector<MapRun> maps;  // The maps closed so far.
   int map_first_frame = options.start;
@@ -213,11 +217,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   if (!options.debug_dir.empty()) debug.emplace(options.debug_dir, dataset, undistorter);
   std::optional<LiveView> live;
   if (options.view_port >= 0) {
-    const PinholeCamera& c = undistorter.output();
-    LiveView::Context context{DatasetTitle(dataset), options.system.mode == MapMode::kSlidingWindow ? "sw" : "dsm",
-                              PaceName(options.pace),
-                              {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx},
-                               {"cy", c.cy}}};
+    LiveView::Context context{ReportTitle(dataset.root), MapModeName(options.system.mode), PaceName(options.pace),
+                              CameraJson(undistorter.output())};
     live.emplace(options.view_port, dataset, context);
     std::printf("view: http://127.0.0.1:%d/ (updated while the run goes on)\n", live->port());
     std::fflush(stdout);
@@ -284,7 +285,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     shown.points = size.points;
     shown.state = r.status == TrackingStatus::kOk ? "tracking" : r.status == TrackingStatus::kLost ? "lost" : "initialising";
     progress.Update(shown);
-    if (live) live->Frame(*system, r, i, static_cast<int>(maps.size()), shown.elapsed_s, shown.recording_s);
+    if (live) live->Frame(*system, shown, per_frame, static_cast<int>(maps.size()));
     if (system->NeedsNewMap() && i + 1 < end) {
       // Relocalisation keeps failing: the camera is somewhere new. This map ends here and the
       // next frames start another (merging maps is not done).
@@ -298,7 +299,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   }
   progress.Finish();
   system->Finish();
-  if (live) live->Finish(*system);
+  if (live) live->Finish(*system, per_frame);
 
   // Speed against the recording: the frames' time span (one frame interval per frame) over the
   // time spent reading and processing them (mapping included); > 1 is faster than real time.
@@ -322,12 +323,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                                      {"iterations", k.pba_iterations}, {"ms", k.pba_ms}}}});
     created.push_back(k.points_created);
   }
-  const PinholeCamera& camera = undistorter.output();
   summary.stats = {
       {"dataset", dataset.root.string()},
-      {"camera", {{"width", camera.width}, {"height", camera.height}, {"fx", camera.fx}, {"fy", camera.fy},
-                  {"cx", camera.cx}, {"cy", camera.cy}}},
-      {"mode", options.system.mode == MapMode::kSlidingWindow ? "sw" : "dsm"},
+      {"camera", CameraJson(undistorter.output())},
+      {"mode", MapModeName(options.system.mode)},
       {"frames", s.frames},
       {"frames_tracked", s.frames_tracked},
       {"frames_lost", s.frames_lost},

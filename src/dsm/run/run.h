@@ -28,6 +28,7 @@ enum class Pace {
                 // a frame superseded by a newer one while tracking was busy is dropped.
 };
 std::string PaceName(Pace pace);
+Pace ParsePace(const std::string& name, const std::string& where);  // free | sequential | realtime
 
 struct RunOptions {
   SystemOptions system;  // system.threaded is set from `pace`.

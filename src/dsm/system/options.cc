@@ -5,6 +5,14 @@
 
 namespace dsm {
 
+MapMode ParseMapMode(const std::string& name, const std::string& where) {
+  if (name == "dsm") return MapMode::kFull;
+  if (name == "sw") return MapMode::kSlidingWindow;
+  throw InputError(where + ": expected dsm or sw, got '" + name + "'");
+}
+
+std::string MapModeName(MapMode mode) { return mode == MapMode::kSlidingWindow ? "sw" : "dsm"; }
+
 void RelocalisationOptions::Validate() const {
   if (candidates < 0 || candidates > 50) throw InputError("relocalisation.candidates must be within 0..50");
   if (max_lost_frames < 0) throw InputError("relocalisation.max_lost_frames must be non-negative (0: never a new map)");

@@ -21,6 +21,8 @@ enum class MapMode {
   kSlidingWindow,  // DSM-SW: a temporal window of N_t + N_c keyframes (DSM's size), no covisible part.
   kFull,           // DSM: temporal + covisible keyframes (window.covisible_keyframes).
 };
+MapMode ParseMapMode(const std::string& name, const std::string& where);  // dsm | sw
+std::string MapModeName(MapMode mode);
 
 // What the system does once a frame is lost (tracking_quality.h): every following frame is tried
 // against the map's keyframes (the last reference first, then the `candidates` most similar by
