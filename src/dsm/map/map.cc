@@ -15,7 +15,6 @@ Keyframe& Map::AddKeyframe(std::unique_ptr<Keyframe> keyframe) {
   keyframe->pyramid_used = epoch_;
   if (keyframe->pyramid != nullptr) {  // Without one: geometry only (tests of window selection).
     DSM_CHECK(keyframe->pyramid->HasGradients(), "a keyframe needs a full pyramid");
-    keyframe->image = keyframe->pyramid->FixedLevel0();
     keyframe->pyramid_levels = keyframe->pyramid->levels();
   }
   keyframes_.push_back(std::move(keyframe));
@@ -42,6 +41,7 @@ int Map::LoadPyramids(const std::vector<int>& ids) {
   tbb::parallel_for(size_t{0}, missing.size(), [&](size_t i) {
     Keyframe& kf = *missing[i];
     kf.pyramid = std::make_shared<const ImagePyramid>(ImagePyramid::FromFixed(kf.image, kf.pyramid_levels));
+    kf.image = Image<uint16_t>();
   });
   pyramids_rebuilt_ += static_cast<int>(missing.size());
   return static_cast<int>(missing.size());
@@ -51,6 +51,7 @@ int Map::ReleaseUnusedPyramids(int keep_epochs) {
   int released = 0;
   for (auto& kf : keyframes_) {
     if (kf->pyramid != nullptr && kf->pyramid_used <= epoch_ - keep_epochs) {
+      kf->image = kf->pyramid->FixedLevel0();
       kf->pyramid.reset();
       ++released;
     }

@@ -63,7 +63,10 @@ struct Keyframe {
   // thread holds its reference keyframe's).
   std::shared_ptr<const ImagePyramid> pyramid;
   // Level-0 intensities in fixed point (ImagePyramid::kValueScale): 2 bytes a pixel instead of
-  // the pyramid's ~8. A released pyramid is rebuilt from it, exactly (ImagePyramid::FromFixed).
+  // the pyramid's ~8, held only while the pyramid is released (the pyramid holds the same values
+  // as its level 0). A released pyramid is rebuilt from it, exactly (ImagePyramid::FromFixed).
+  // Exactly one of the two is held once the keyframe is in the map: read through Level0() and
+  // Intensity().
   Image<uint16_t> image;
   int pyramid_levels = 0;
   int pyramid_used = 0;  // Map epoch of its last use.
@@ -75,7 +78,12 @@ struct Keyframe {
     DSM_CHECK(pyramid != nullptr, "keyframe pyramid used without Map::LoadPyramids");
     return *pyramid;
   }
-  float Intensity(int x, int y) const { return image(x, y) * (1.f / ImagePyramid::kValueScale); }
+  float Intensity(int x, int y) const {
+    return pyramid != nullptr ? pyramid->Value(0, x, y) : image(x, y) * (1.f / ImagePyramid::kValueScale);
+  }
+  int width() const { return pyramid != nullptr ? pyramid->width(0) : image.width(); }
+  int height() const { return pyramid != nullptr ? pyramid->height(0) : image.height(); }
+  Image<uint16_t> Level0() const { return pyramid != nullptr ? pyramid->FixedLevel0() : image; }
   SE3d WorldFromCam() const { return cam_from_world.Inverse(); }
   Eigen::Vector3d Centre() const { return WorldFromCam().Translation(); }
 };

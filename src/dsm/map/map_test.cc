@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/map/map.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -36,11 +37,22 @@ TEST(Map, ReleasesUnusedPyramidsAndRebuildsThemExactlyFromTheCompactImage) {
   EXPECT_EQ(map.ReleaseUnusedPyramids(2), 2);   // 0 and 1 unused for two epochs; 2 used one ago.
   EXPECT_EQ(map.NumLoadedPyramids(), 1);
   EXPECT_EQ(map.keyframe(0).pyramid, nullptr);
+  // Released, a keyframe holds its compact image; loaded, only the pyramid (the same values).
+  const Image<uint16_t> compact = original.FixedLevel0();
+  ASSERT_EQ(map.keyframe(0).image.size(), compact.size());
+  EXPECT_TRUE(std::equal(compact.data(), compact.data() + compact.size(), map.keyframe(0).image.data()));
+  EXPECT_EQ(map.keyframe(2).image.size(), 0u);
+  const Image<uint16_t> from_pyramid = map.keyframe(2).Level0();
+  const Image<uint16_t> expected = map.keyframe(2).Pyramid().FixedLevel0();
+  EXPECT_TRUE(std::equal(expected.data(), expected.data() + expected.size(), from_pyramid.data()));
+  EXPECT_EQ(map.keyframe(0).width(), 32);
+  EXPECT_EQ(map.keyframe(2).height(), 16);
   EXPECT_EQ(map.point(pid).patch.value, patch.value);
 
   EXPECT_EQ(map.LoadPyramids({0, 0, 1}), 2);
   EXPECT_EQ(map.NumLoadedPyramids(), 3);
   EXPECT_EQ(map.NumPyramidsRebuilt(), 2);
+  EXPECT_EQ(map.keyframe(0).image.size(), 0u);
   const ImagePyramid& rebuilt = map.keyframe(0).Pyramid();
   ASSERT_EQ(rebuilt.levels(), original.levels());
   for (int l = 0; l < rebuilt.levels(); ++l)

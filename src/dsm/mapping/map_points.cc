@@ -15,8 +15,8 @@ std::vector<LivePoint> LivePoints(const Map& map, const PinholeCamera& camera) {
     const Point& p = map.point(id);
     if (p.removed) continue;
     const Keyframe& kf = map.keyframe(p.host);
-    const int x = std::clamp(static_cast<int>(std::lround(p.pixel.x())), 0, kf.image.width() - 1);
-    const int y = std::clamp(static_cast<int>(std::lround(p.pixel.y())), 0, kf.image.height() - 1);
+    const int x = std::clamp(static_cast<int>(std::lround(p.pixel.x())), 0, camera.width - 1);
+    const int y = std::clamp(static_cast<int>(std::lround(p.pixel.y())), 0, camera.height - 1);
     out.push_back({PointInWorld(map, camera, p).cast<float>(),
                    static_cast<uint8_t>(std::clamp(std::lround(kf.Intensity(x, y)), 0L, 255L)), p.host,
                    p.NumGoodObservations()});

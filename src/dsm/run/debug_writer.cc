@@ -191,7 +191,7 @@ void DebugWriter::WriteKeyframe(const System& system, int kf) {
   if (!points) throw InputError((dir_ / name).string() + ": write failed");
 
   // The picture: the keyframe's image, its points by inverse depth and state.
-  Image<Rgb8> picture(keyframe.image.width(), keyframe.image.height());
+  Image<Rgb8> picture(keyframe.width(), keyframe.height());
   for (int y = 0; y < picture.height(); ++y)
     for (int x = 0; x < picture.width(); ++x) {
       const auto v = static_cast<uint8_t>(std::clamp(keyframe.Intensity(x, y), 0.f, 255.f));

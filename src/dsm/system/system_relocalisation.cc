@@ -30,7 +30,7 @@ const OrbFeatures& System::KeyframeFeatures(int kf) {
   auto it = keyframe_features_.find(kf);
   if (it != keyframe_features_.end()) return it->second;
   const Keyframe& k = map_.keyframe(kf);
-  return keyframe_features_.emplace(kf, DetectOrbFeatures(k.image, {})).first->second;
+  return keyframe_features_.emplace(kf, DetectOrbFeatures(k.Level0(), {})).first->second;
 }
 
 void System::AdoptReference(std::shared_ptr<const TrackingReference> ref) {
