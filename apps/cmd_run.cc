@@ -13,6 +13,7 @@ Command AddRun(CLI::App& app) {
   struct Args {
     std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
     double progress_interval = 10.0;
+    double latency_target_ms = 40.0;
     int port = 8080;
     bool view = false;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
@@ -39,6 +40,9 @@ Command AddRun(CLI::App& app) {
                "Two threads, frames released at their timestamps like a live camera; frames that arrive while "
                "tracking is busy are dropped and counted (default: two threads, frames fed as fast as tracking "
                "takes them)");
+  app.add_option("--latency-target-ms", a->latency_target_ms,
+                 "--realtime: frames wait for the keyframe being mapped (as the sequential run has it) while all but "
+                 "5% stay within this latency, and never so long that a frame is dropped (default 40; 0: no wait)");
   app.add_option("--workers", a->workers,
                  "Threads of the parallel loops (default 0: one per core; 1: loops run on the tracking and "
                  "mapping threads alone)");
@@ -74,6 +78,8 @@ Command AddRun(CLI::App& app) {
     options.quiet = a->quiet;
     if (!(a->progress_interval >= 0.0)) throw InputError("--progress-interval must be >= 0 seconds");
     options.progress_interval_s = a->progress_interval;
+    if (!(a->latency_target_ms >= 0.0)) throw InputError("--latency-target-ms must be >= 0");
+    options.realtime_latency_target_ms = a->latency_target_ms;
     options.write_map = !a->no_map;
     options.write_report = !a->no_report;
     if (a->port < 0 || a->port > 65535) throw InputError("--port must be 0..65535");

@@ -209,6 +209,9 @@ TEST(Cli, RunPrintsProgressLinesUnlessQuiet) {
   const Result bad = RunDsm(run + " --progress-interval -1");
   EXPECT_EQ(bad.code, 2);
   EXPECT_TRUE(Contains(bad.output, "--progress-interval")) << bad.output;
+  const Result bad_wait = RunDsm(run + " --latency-target-ms -5");
+  EXPECT_EQ(bad_wait.code, 2);
+  EXPECT_TRUE(Contains(bad_wait.output, "--latency-target-ms")) << bad_wait.output;
 }
 
 // `--debug DIR` on a rendered sequence with depth: a row per keyframe, a picture and a point table

@@ -21,6 +21,7 @@
 #include "dsm/run/live_view.h"
 #include "dsm/run/map_export.h"
 #include "dsm/run/progress.h"
+#include "dsm/run/realtime_wait.h"
 #include "dsm/system/system.h"
 #include "dsm/util/check.h"
 
@@ -159,6 +160,7 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     append(&all.per_keyframe, s.per_keyframe);
     all.keyframe_queue_max = std::max(all.keyframe_queue_max, s.keyframe_queue_max);
     all.keyframe_waits += s.keyframe_waits;
+    all.keyframe_wait_timeouts += s.keyframe_wait_timeouts;
     all.pyramids_rebuilt += s.pyramids_rebuilt;
     all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);
   }
@@ -241,11 +243,13 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   ProgressState shown;
   shown.total = end - options.start;
   TrackingStatus last_status = TrackingStatus::kInitializing;
+  RealtimeWait realtime_wait(options.realtime_latency_target_ms);
   nlohmann::json per_frame = {{"frame", nlohmann::json::array()}, {"tracking_ms", nlohmann::json::array()}};
   for (int i = options.start; i < end; ++i) {
     interrupt_signal = InterruptSignal();
     if (interrupt_signal != 0) break;
     auto released = std::chrono::steady_clock::now();
+    std::optional<std::chrono::steady_clock::time_point> taken;
     if (options.pace == Pace::kRealtime) {
       // Frames that arrived while tracking was busy: only the newest is kept, as a camera driver
       // with a one-frame buffer does.
@@ -255,6 +259,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       i = newest;
       if (release(i) > released) std::this_thread::sleep_until(release(i));
       released = release(i);
+      taken = std::max(released, std::chrono::steady_clock::now());
     }
     const FrameOrError frame = reader ? reader->Take(i) : TryReadFrame(dataset, undistorter, i);
     last_frame = i;
@@ -265,8 +270,16 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       continue;
     }
     if (reader) released = std::chrono::steady_clock::now();
-    const FrameReport r = system->Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms);
-    latency_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - released).count());
+    std::optional<std::chrono::steady_clock::time_point> wait_until;
+    if (taken) wait_until = realtime_wait.Deadline(released, i + 2 < end ? std::optional(release(i + 2)) : std::nullopt);
+    const FrameReport r =
+        system->Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms, wait_until);
+    const auto posed = std::chrono::steady_clock::now();
+    latency_ms.push_back(std::chrono::duration<double, std::milli>(posed - released).count());
+    if (taken) {
+      realtime_wait.Record(latency_ms.back(),
+                           std::chrono::duration<double, std::milli>(posed - *taken).count() - r.wait_ms);
+    }
     if (debug && r.keyframe && maps.empty()) debug->AddKeyframes(*system);  // The first map's.
     // Events: tracking lost (once per episode) and regained.
     if (r.relocalised || (r.status == TrackingStatus::kLost && last_status != TrackingStatus::kLost)) {
@@ -358,6 +371,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["latency_ms"] = {{"median", latency["median"]}, {"p90", latency["p90"]}, {"max", latency["max"]}};
   summary.stats["keyframe_queue_max"] = s.keyframe_queue_max;
   summary.stats["keyframe_waits"] = s.keyframe_waits;
+  summary.stats["keyframe_wait_timeouts"] = s.keyframe_wait_timeouts;
   summary.stats["pyramids_rebuilt"] = s.pyramids_rebuilt;
   summary.stats["pyramids_loaded_max"] = s.pyramids_loaded_max;
   summary.stats["processing_s"] = process_s;

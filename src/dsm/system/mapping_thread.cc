@@ -44,6 +44,13 @@ void MappingThread::WaitForKeyframes() {
   RethrowLocked();
 }
 
+bool MappingThread::WaitForKeyframesUntil(std::chrono::steady_clock::time_point deadline) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  const bool none = done_.wait_until(lock, deadline, [this] { return keyframes_pending_ == 0 || error_; });
+  RethrowLocked();
+  return none;
+}
+
 void MappingThread::WaitUntilIdle() {
   std::unique_lock<std::mutex> lock(mutex_);
   done_.wait(lock, [this] { return (queue_.empty() && !running_) || error_; });

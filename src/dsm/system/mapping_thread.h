@@ -8,6 +8,7 @@
 // the submitting thread by Submit / WaitUntilIdle / WaitForKeyframes).
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -31,6 +32,8 @@ class MappingThread {
   int KeyframesPending() const;
   // Blocks until no keyframe job is queued or running.
   void WaitForKeyframes();
+  // The same, but no later than `deadline`; true when none is left.
+  bool WaitForKeyframesUntil(std::chrono::steady_clock::time_point deadline);
   // Blocks until every job handed over has finished.
   void WaitUntilIdle();
   // The largest number of keyframe jobs queued or running at once.

@@ -73,7 +73,8 @@ void System::ChooseSmoothing(const Image<float>& first) {
   options_.candidates.noise_gradient_gain = SmoothedGradientNoiseGain(static_cast<float>(stats_.smoothing_sigma));
 }
 
-FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms) {
+FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms,
+                            std::optional<std::chrono::steady_clock::time_point> wait_until) {
   DSM_CHECK(input.width() == camera_.width && input.height() == camera_.height, "frame size differs from the camera");
   ++stats_.frames;
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
@@ -85,11 +86,21 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
 
   // After a relocalisation the reference is an older keyframe: even a live camera waits for the
   // keyframe made from the confirming frame, or tracking would drift off the old one meanwhile.
-  UpdateReference((want_keyframe_ && options_.wait_for_mapping) || wait_after_relocalisation_);
+  const auto wait_start = std::chrono::steady_clock::now();
+  const bool wait = (want_keyframe_ && options_.wait_for_mapping) || wait_after_relocalisation_;
+  if (!wait && wait_until && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
+    // A frame tracked against the keyframe before the pending one lands further from its
+    // reference, and its candidates' traces and the next keyframe with it: as long as the next
+    // frame is not due, it waits.
+    ++stats_.keyframe_waits;
+    if (!mapping_thread_->WaitForKeyframesUntil(*wait_until)) ++stats_.keyframe_wait_timeouts;
+  }
+  UpdateReference(wait);
   wait_after_relocalisation_ = false;
   const auto t0 = std::chrono::steady_clock::now();
   FrameReport report;
   report.index = index;
+  report.wait_ms = std::chrono::duration<double, std::milli>(t0 - wait_start).count();
   auto pyramid = std::make_shared<const ImagePyramid>(image, options_.pyramid_levels, /*gradients=*/false);
   // The quality test (tracking_quality.h): the image first, then the alignment. While lost, every
   // frame with texture enough is tried against the map (Relocalise). A relocalisation is tentative

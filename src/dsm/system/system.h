@@ -22,6 +22,7 @@
 // it once the pending one is mapped: at most one keyframe is in flight.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -52,6 +53,7 @@ struct FrameReport {
   bool keyframe = false;
   bool relocalised = false;  // Tracking regained after lost frames (kOk).
   double tracking_ms = 0.0;  // Pyramid and alignment.
+  double wait_ms = 0.0;      // Waiting for a keyframe to be mapped first (threaded).
   double mapping_ms = 0.0;   // Sequential: its candidate tracing, and its mapping when it became a keyframe.
 };
 
@@ -90,6 +92,7 @@ struct SystemStats {
   double global_ba_ms = -1.0;       // -1: not run.
   int keyframe_queue_max = 0;       // Most keyframes handed to the mapping side and not yet mapped.
   int keyframe_waits = 0;           // Frames whose tracking waited for a keyframe to be mapped.
+  int keyframe_wait_timeouts = 0;   // Of those, the ones that gave up at their deadline (wait_until).
   int pyramids_rebuilt = 0;         // Keyframe pyramids rebuilt after they were released (Map).
   int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };
@@ -112,7 +115,11 @@ class System {
   // `image`: undistorted (and photometrically corrected) frame of the camera's size; smoothed first
   // as options.smoothing_sigma says (decided on the first frame).
   // `exposure_ms`: 0 when unknown. Returns once the frame is tracked (and, sequential, mapped).
-  FrameReport Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms);
+  // `wait_until` (threaded, SystemOptions::wait_for_mapping false): while a keyframe is still being
+  // mapped, the frame waits for it until then, so that it is tracked against the newest keyframe
+  // as in the sequential run, but never later (a live camera's next frame is due).
+  FrameReport Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
+                      std::optional<std::chrono::steady_clock::time_point> wait_until = std::nullopt);
   // Waits until the mapping side has done all the work handed to it (nothing to wait for when
   // sequential). The accessors below read the map: call this first when threaded.
   void Finish();

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/run/realtime_wait.h"
+
+#include <algorithm>
+
+namespace dsm {
+
+namespace {
+
+RealtimeWait::Clock::duration Ms(double ms) {
+  return std::chrono::duration_cast<RealtimeWait::Clock::duration>(std::chrono::duration<double, std::milli>(ms));
+}
+
+}  // namespace
+
+RealtimeWait::Clock::time_point RealtimeWait::Deadline(Clock::time_point released,
+                                                       std::optional<Clock::time_point> release_after_next) const {
+  if (!(target_ms_ > 0.0)) return released;
+  const double busy = (busy_ms_.empty() ? 0.0 : *std::max_element(busy_ms_.begin(), busy_ms_.end())) + kMarginMs;
+  const auto long_ones = std::count_if(latency_ms_.begin(), latency_ms_.end(), [&](double l) { return l > target_ms_; });
+  const bool may_be_long = static_cast<double>(long_ones) < kLongShare * kLatencyWindow;
+  const Clock::time_point within_target = released + Ms(target_ms_ - busy);
+  if (!release_after_next) return within_target;
+  const Clock::time_point no_drop = *release_after_next - Ms(busy);
+  return may_be_long ? no_drop : std::min(no_drop, within_target);
+}
+
+void RealtimeWait::Record(double latency_ms, double busy_ms) {
+  busy_ms_.push_back(busy_ms);
+  if (busy_ms_.size() > kRecentFrames) busy_ms_.pop_front();
+  latency_ms_.push_back(latency_ms);
+  if (latency_ms_.size() > kLatencyWindow) latency_ms_.pop_front();
+}
+
+}  // namespace dsm

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+// The realtime pace's bound on waiting for the mapping side (System::Process wait_until).
+//
+// A frame tracked while a keyframe is still being mapped is aligned with the keyframe before it:
+// further from its reference than in the sequential run, and its candidates' traces and the next
+// keyframe decision with it (on the `exposure` scene that doubled the keyframe ATE). A live
+// camera's frame may wait for the pending keyframe, within two limits:
+//  - No frame is lost by it. The camera driver keeps the newest frame, so frame i + 1 is lost only
+//    if frame i is still busy when frame i + 2 arrives: frame i (released at r_i) waits at most
+//    until r_{i+2} - b, with b the longest time the last kRecentFrames frames spent reading and
+//    tracking (their wait left out) plus kMarginMs.
+//  - Latency (release to pose) stays within `latency_target_ms` for all but a few frames: a frame
+//    may wait past r_i + target - b only while fewer than kLongShare of the last kLatencyWindow
+//    frames took longer than the target.
+// Near the end, with r_{i+2} unknown, the target alone bounds the wait. A target of 0: no wait.
+#pragma once
+
+#include <chrono>
+#include <deque>
+#include <optional>
+
+namespace dsm {
+
+class RealtimeWait {
+ public:
+  using Clock = std::chrono::steady_clock;
+  static constexpr size_t kRecentFrames = 10;
+  static constexpr size_t kLatencyWindow = 100;
+  static constexpr double kLongShare = 0.05;
+  static constexpr double kMarginMs = 2.0;
+
+  explicit RealtimeWait(double latency_target_ms) : target_ms_(latency_target_ms) {}
+
+  // How long the frame released at `released` may wait; `release_after_next` is r_{i+2}.
+  Clock::time_point Deadline(Clock::time_point released, std::optional<Clock::time_point> release_after_next) const;
+  // After each frame: its latency, and the time it was busy (read and processed, wait left out).
+  void Record(double latency_ms, double busy_ms);
+
+ private:
+  double target_ms_;
+  std::deque<double> busy_ms_;     // The last kRecentFrames.
+  std::deque<double> latency_ms_;  // The last kLatencyWindow.
+};
+
+}  // namespace dsm

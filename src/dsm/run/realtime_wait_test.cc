@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/run/realtime_wait.h"
+
+#include <gtest/gtest.h>
+
+namespace dsm {
+namespace {
+
+using Clock = RealtimeWait::Clock;
+using std::chrono::milliseconds;
+
+// 20 Hz: frame i released at 0, frame i + 2 due at 100 ms.
+const Clock::time_point r0{};
+const Clock::time_point r2 = r0 + milliseconds(100);
+
+TEST(RealtimeWait, NeverLongEnoughToDropAFrame) {
+  RealtimeWait wait(40.0);
+  for (double busy : {4.0, 9.0, 5.0}) wait.Record(10.0, busy);
+  // Busy up to 9 ms (+2): the frame after next must find tracking free.
+  EXPECT_EQ(wait.Deadline(r0, r2), r2 - milliseconds(11));
+  // Near the end: the latency target alone.
+  EXPECT_EQ(wait.Deadline(r0, std::nullopt), r0 + milliseconds(40 - 11));
+  // Only the recent frames count: ten quick ones push a slow one out.
+  wait.Record(10.0, 60.0);
+  EXPECT_EQ(wait.Deadline(r0, r2), r2 - milliseconds(62));
+  for (size_t k = 0; k < RealtimeWait::kRecentFrames; ++k) wait.Record(10.0, 3.0);
+  EXPECT_EQ(wait.Deadline(r0, r2), r2 - milliseconds(5));
+}
+
+TEST(RealtimeWait, KeepsMostFramesWithinTheLatencyTarget) {
+  RealtimeWait wait(40.0);
+  for (int k = 0; k < 95; ++k) wait.Record(10.0, 3.0);
+  for (int k = 0; k < 4; ++k) wait.Record(80.0, 3.0);  // 4 of the last 100 late: one more may be.
+  EXPECT_EQ(wait.Deadline(r0, r2), r2 - milliseconds(5));
+  wait.Record(80.0, 3.0);  // 5 of 100: the rest wait within the target.
+  EXPECT_EQ(wait.Deadline(r0, r2), r0 + milliseconds(35));
+  for (size_t k = 0; k < RealtimeWait::kLatencyWindow; ++k) wait.Record(10.0, 3.0);
+  EXPECT_EQ(wait.Deadline(r0, r2), r2 - milliseconds(5));
+}
+
+TEST(RealtimeWait, ATargetOfZeroNeverWaits) {
+  RealtimeWait wait(0.0);
+  wait.Record(10.0, 3.0);
+  EXPECT_EQ(wait.Deadline(r0, r2), r0);
+  EXPECT_EQ(wait.Deadline(r0, std::nullopt), r0);
+}
+
+}  // namespace
+}  // namespace dsm
