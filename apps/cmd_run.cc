@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <cstdio>
+#include <limits>
 
 #include "apps/commands.h"
 #include "dsm/io/options_io.h"
@@ -13,7 +14,7 @@ Command AddRun(CLI::App& app) {
   struct Args {
     std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
     double progress_interval = 10.0;
-    double latency_target_ms = 40.0;
+    double latency_target_ms = std::numeric_limits<double>::infinity();
     int port = 8080;
     bool view = false;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
@@ -41,8 +42,9 @@ Command AddRun(CLI::App& app) {
                "tracking is busy are dropped and counted (default: two threads, frames fed as fast as tracking "
                "takes them)");
   app.add_option("--latency-target-ms", a->latency_target_ms,
-                 "--realtime: frames wait for the keyframe being mapped (as the sequential run has it) while all but "
-                 "5% stay within this latency, and never so long that a frame is dropped (default 40; 0: no wait)");
+                 "--realtime: frames wait for the keyframe being mapped (then tracked as in the sequential run) never "
+                 "so long that a frame is dropped (the default) and, with this, while all but 8% of the frames stay "
+                 "within this latency (0: no wait)");
   app.add_option("--workers", a->workers,
                  "Threads of the parallel loops (default 0: one per core; 1: loops run on the tracking and "
                  "mapping threads alone)");

@@ -161,6 +161,7 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     all.keyframe_queue_max = std::max(all.keyframe_queue_max, s.keyframe_queue_max);
     all.keyframe_waits += s.keyframe_waits;
     all.keyframe_wait_timeouts += s.keyframe_wait_timeouts;
+    all.keyframe_retracks += s.keyframe_retracks;
     all.pyramids_rebuilt += s.pyramids_rebuilt;
     all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);
   }
@@ -372,6 +373,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["keyframe_queue_max"] = s.keyframe_queue_max;
   summary.stats["keyframe_waits"] = s.keyframe_waits;
   summary.stats["keyframe_wait_timeouts"] = s.keyframe_wait_timeouts;
+  summary.stats["keyframe_retracks"] = s.keyframe_retracks;
   summary.stats["pyramids_rebuilt"] = s.pyramids_rebuilt;
   summary.stats["pyramids_loaded_max"] = s.pyramids_loaded_max;
   summary.stats["processing_s"] = process_s;

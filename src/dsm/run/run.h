@@ -10,6 +10,7 @@
 #pragma once
 
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -39,10 +40,10 @@ struct RunOptions {
   bool quiet = false;  // No progress and no event lines on stdout.
   // Progress (progress.h) when stdout is not a terminal: a line every this many seconds.
   double progress_interval_s = 10.0;
-  // Realtime pace: frames wait for a keyframe still being mapped (System::Process wait_until) while
-  // all but a few keep their latency within this, and never so long that a frame is dropped
-  // (realtime_wait.h). 0: never wait (frames track against the previous keyframe meanwhile).
-  double realtime_latency_target_ms = 40.0;
+  // Realtime pace: frames wait for a keyframe still being mapped (System::Process wait_until), never
+  // so long that a frame is dropped, and, with a finite target, while all but a few keep their
+  // latency within it (realtime_wait.h). 0: never wait (frames track against the previous keyframe).
+  double realtime_latency_target_ms = std::numeric_limits<double>::infinity();
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
   bool write_map = true;   // map.ply and keyframes.ply beside the trajectories.
   bool write_report = true;  // report.html (report/report.h) in the output folder.

@@ -97,7 +97,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   }
   UpdateReference(wait);
   wait_after_relocalisation_ = false;
-  const auto t0 = std::chrono::steady_clock::now();
+  auto t0 = std::chrono::steady_clock::now();
   FrameReport report;
   report.index = index;
   report.wait_ms = std::chrono::duration<double, std::milli>(t0 - wait_start).count();
@@ -115,6 +115,20 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     result = TrackFrame(*pyramid, exposure);
     reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(), 1,
                                     tracker_->MeanIdepth());
+    if (!reason.empty() && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
+      // Failed against the keyframe before the one being mapped (a wait that ended first): the
+      // newer keyframe may see what the camera sees now. Waiting for it costs this frame some
+      // latency; a lost frame would cost a relocalisation, which waits for the mapping side too.
+      ++stats_.keyframe_retracks;
+      const auto retrack_start = std::chrono::steady_clock::now();
+      mapping_thread_->WaitForKeyframes();
+      UpdateReference(false);
+      t0 += std::chrono::steady_clock::now() - retrack_start;
+      report.wait_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - retrack_start).count();
+      result = TrackFrame(*pyramid, exposure);
+      reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(), 1,
+                                      tracker_->MeanIdepth());
+    }
     if (!reason.empty() && tentative_) {
       WithdrawRelocalisation();
       reason.clear();
@@ -174,7 +188,10 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   job.beta = result.beta;
   want_keyframe_ = false;
   if (ShouldCreateKeyframe(scores, options_.keyframe) && quality_.CheckKeyframeImage(signature.texture, previous_texture)) {
-    if (mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
+    if (mapping_thread_ && (mapping_thread_->KeyframesPending() > 0 || ReferenceIsStale())) {
+      // Another keyframe is in flight, or was published while this frame was tracked against the
+      // one before it: a keyframe made from this frame would hang off the older keyframe, next
+      // to the newer one.
       want_keyframe_ = true;  // The next frame waits for the pending keyframe (or not) and decides again.
     } else {
       job.keyframe = next_keyframe_++;
@@ -194,6 +211,11 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   Submit(std::move(job));
   if (!mapping_thread_) report.mapping_ms = MsSince(t1);
   return report;
+}
+
+bool System::ReferenceIsStale() const {
+  std::lock_guard<std::mutex> lock(reference_mutex_);
+  return published_ != reference_;
 }
 
 void System::Submit(MappingJob job) {

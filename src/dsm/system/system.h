@@ -93,6 +93,8 @@ struct SystemStats {
   int keyframe_queue_max = 0;       // Most keyframes handed to the mapping side and not yet mapped.
   int keyframe_waits = 0;           // Frames whose tracking waited for a keyframe to be mapped.
   int keyframe_wait_timeouts = 0;   // Of those, the ones that gave up at their deadline (wait_until).
+  // Frames that failed against the keyframe before a pending one and were tracked again against it.
+  int keyframe_retracks = 0;
   int pyramids_rebuilt = 0;         // Keyframe pyramids rebuilt after they were released (Map).
   int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };
@@ -276,6 +278,8 @@ class System {
   int CullPoints();  // Returns how many it removed.
   void SelectCandidates(int kf);
   void PublishTrackingReference();
+  // Threaded: a newer reference was published than the one the tracking side holds.
+  bool ReferenceIsStale() const;
   // Covisible keyframes and their points' re-observations in `newest`, except hidden ones.
   void SelectCovisible(int newest, OcclusionGrid* occlusion);
   void AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const;
