@@ -18,8 +18,9 @@
 // target the realtime keyframes are the sequential ones wherever the mapping keeps up, 0 frames
 // dropped; on EuRoC latency p90 65-71 ms (ATE 4.46-4.47 mm, sequential 4.52). With a 45 ms target
 // EuRoC's p90 is 39-40 ms, but on `orbit` the waits that end at the target lost tracking as the
-// near occluder passes (frames 104-146) and the map broke (91-1556 mm in 5 of 5 runs; never
-// waiting or waiting without a target: 0.9-1.4 mm).
+// near occluder passes (frames 104-146) and the map broke (91-1556 mm in 8 of 11 runs with a
+// 40-45 ms target; never waiting: 0.89-1.35 mm in 4 of 4, waiting without a target: 1.40 mm in
+// 7 of 7).
 #pragma once
 
 #include <chrono>
