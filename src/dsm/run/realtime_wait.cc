@@ -17,14 +17,14 @@ RealtimeWait::Clock::duration Ms(double ms) {
 RealtimeWait::Clock::time_point RealtimeWait::Deadline(Clock::time_point released,
                                                        std::optional<Clock::time_point> release_after_next) const {
   if (!(target_ms_ > 0.0)) return released;
-  const double busy = (busy_ms_.empty() ? 0.0 : *std::max_element(busy_ms_.begin(), busy_ms_.end())) + kMarginMs;
-  const auto long_ones = std::count_if(latency_ms_.begin(), latency_ms_.end(), [&](double l) { return l > target_ms_; });
-  const bool may_be_long = static_cast<double>(long_ones) < kLongShare * kLatencyWindow;
   const bool bounded = std::isfinite(target_ms_);
+  const double busy = (busy_ms_.empty() ? 0.0 : *std::max_element(busy_ms_.begin(), busy_ms_.end())) + kMarginMs;
   const Clock::time_point within_target = bounded ? released + Ms(target_ms_ - busy) : released;
   if (!release_after_next) return within_target;
   const Clock::time_point no_drop = *release_after_next - Ms(busy);
-  return !bounded || may_be_long ? no_drop : std::min(no_drop, within_target);
+  if (!bounded) return no_drop;
+  const auto long_ones = std::count_if(latency_ms_.begin(), latency_ms_.end(), [&](double l) { return l > target_ms_; });
+  return static_cast<double>(long_ones) < kLongShare * kLatencyWindow ? no_drop : std::min(no_drop, within_target);
 }
 
 void RealtimeWait::Record(double latency_ms, double busy_ms) {

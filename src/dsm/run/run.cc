@@ -260,7 +260,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       i = newest;
       if (release(i) > released) std::this_thread::sleep_until(release(i));
       released = release(i);
-      taken = std::max(released, std::chrono::steady_clock::now());
+      taken = std::chrono::steady_clock::now();  // Not before its release (slept until then).
     }
     const FrameOrError frame = reader ? reader->Take(i) : TryReadFrame(dataset, undistorter, i);
     last_frame = i;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Frame processing: initialisation and tracking. Keyframe mapping is in system_mapping.cc.
+// Frame processing: tracking and the hand-over to the mapping side. The map's start is in
+// system_start.cc, keyframe mapping in system_mapping.cc, relocalisation in system_relocalisation.cc.
 #include "dsm/system/system.h"
 
 #include <algorithm>
@@ -90,17 +91,17 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   const bool wait = (want_keyframe_ && options_.wait_for_mapping) || wait_after_relocalisation_;
   if (!wait && wait_until && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
     // A frame tracked against the keyframe before the pending one lands further from its
-    // reference, and its candidates' traces and the next keyframe with it: as long as the next
-    // frame is not due, it waits.
+    // reference, and its candidates' traces and the next keyframe with it: it waits until
+    // `wait_until` (run/realtime_wait.h).
     ++stats_.keyframe_waits;
     if (!mapping_thread_->WaitForKeyframesUntil(*wait_until)) ++stats_.keyframe_wait_timeouts;
   }
   UpdateReference(wait);
   wait_after_relocalisation_ = false;
-  auto t0 = std::chrono::steady_clock::now();
   FrameReport report;
   report.index = index;
-  report.wait_ms = std::chrono::duration<double, std::milli>(t0 - wait_start).count();
+  report.wait_ms = MsSince(wait_start);
+  auto t0 = std::chrono::steady_clock::now();
   auto pyramid = std::make_shared<const ImagePyramid>(image, options_.pyramid_levels, /*gradients=*/false);
   // The quality test (tracking_quality.h): the image first, then the alignment. While lost, every
   // frame with texture enough is tried against the map (Relocalise). A relocalisation is tentative
@@ -111,10 +112,13 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   previous_texture_ = signature.texture;
   std::string reason = quality_.CheckImage(signature.texture);
   TrackResult result;
-  if (reason.empty() && !lost_) {
+  const auto track = [&] {
     result = TrackFrame(*pyramid, exposure);
     reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(), 1,
                                     tracker_->MeanIdepth());
+  };
+  if (reason.empty() && !lost_) {
+    track();
     if (!reason.empty() && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
       // Failed against the keyframe before the one being mapped (a wait that ended first): the
       // newer keyframe may see what the camera sees now. Waiting for it costs this frame some
@@ -123,11 +127,10 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
       const auto retrack_start = std::chrono::steady_clock::now();
       mapping_thread_->WaitForKeyframes();
       UpdateReference(false);
-      t0 += std::chrono::steady_clock::now() - retrack_start;
-      report.wait_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - retrack_start).count();
-      result = TrackFrame(*pyramid, exposure);
-      reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(), 1,
-                                      tracker_->MeanIdepth());
+      const auto waited = std::chrono::steady_clock::now() - retrack_start;
+      t0 += waited;  // Tracking time leaves the wait out.
+      report.wait_ms += std::chrono::duration<double, std::milli>(waited).count();
+      track();
     }
     if (!reason.empty() && tentative_) {
       WithdrawRelocalisation();
@@ -299,163 +302,6 @@ void System::Finish() {
   }
   TrackInitFrames();  // When the run ended before the map matured.
   MergeInitTracked();
-}
-
-FrameReport System::Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure) {
-  FrameReport report;
-  report.index = index;
-  report.status = TrackingStatus::kInitializing;
-  const auto t0 = std::chrono::steady_clock::now();
-  PendingFrame frame{index, t_ns, exposure, std::make_shared<const ImagePyramid>(image, options_.pyramid_levels)};
-  if (!initializer_->HasReference() || static_cast<int>(pending_.size()) >= options_.max_initialization_frames) {
-    // (Re)start on this frame; frames waiting on an older reference stay untracked.
-    for (const PendingFrame& p : pending_) frames_.push_back({p.t_ns, -1, SE3d()});
-    pending_.clear();
-    initializer_->SetReference(image, camera_);
-    pending_.push_back(std::move(frame));
-    report.reason = "waiting for motion";
-    return report;
-  }
-  const InitResult init = initializer_->AddFrame(image);
-  pending_.push_back(std::move(frame));
-  if (!init.ok) {
-    report.reason = init.reason;
-    return report;
-  }
-  StartMap(init);
-  report.status = TrackingStatus::kOk;
-  report.keyframe = true;
-  report.mapping_ms = MsSince(t0);
-  stats_.mapping_ms.push_back(report.mapping_ms);
-  return report;
-}
-
-void System::StartMap(const InitResult& init) {
-  stats_.initialized_at_frame = pending_.back().index;
-  stats_.initialization = init.planar ? "planar" : "two-view";
-  PendingFrame& first = pending_.front();
-  PendingFrame& last = pending_.back();
-  CreateKeyframe(first.index, first.t_ns, std::move(first.pyramid), first.exposure, SE3d(), AffineBrightness{});
-  CreateKeyframe(last.index, last.t_ns, std::move(last.pyramid), last.exposure, init.current_from_reference,
-                 AffineBrightness{});
-  // Points triangulated by the initialiser, hosted by keyframe 0.
-  stats_.per_keyframe.push_back({first.index, 0, 0, {}});
-  for (const InitPoint& ip : init.points) {
-    Point p;
-    p.host = 0;
-    p.pixel = ip.pixel;
-    p.idepth = ip.idepth;
-    p.created_at_keyframe = 2;
-    HostPatch patch;
-    if (!SampleHostPatch(map_.keyframe(0).Pyramid(), 0, p.pixel, &patch)) continue;
-    map_.AddPoint(p);
-    ++stats_.points_created;
-    ++stats_.per_keyframe.back().points_created;
-  }
-  window_ = {0};
-  frames_.push_back({first.t_ns, 0, SE3d()});
-  // Until keyframe 1 is mapped, frames are tracked against it with the initialiser's depths.
-  PublishReference(1, ReferencePointsIn(1, map_.keyframe(0).points, /*adjusted=*/false));
-  // From here on the map is the mapping side's: keyframe 1's mapping (keyframe 0's candidates
-  // traced in it with the initial pose, its first bundle adjustment) and what follows run there,
-  // so that a live camera's next frame does not wait for them. Brightness guess: only the exposure
-  // changed (alpha = log(tau_1 / tau_0), so a_1 = 0).
-  const double alpha = std::log(last.exposure / first.exposure), exposure = last.exposure;
-  RunOnMappingSide(
-      [this, pose = init.current_from_reference, alpha, exposure] {
-        SelectCandidates(0);
-        TraceCandidates(map_.keyframe(1).Pyramid(), 0, pose, alpha, 0.0, exposure);
-        MapNewKeyframe(1);
-        FinishKeyframe(1);
-      },
-      /*keyframe=*/true);
-  // The next frame waits for it unless frames are live (Process): the tracking residual it
-  // measures is the baseline of the keyframe decision's residual rule, which frames tracked
-  // against the initialiser's depths would set too high.
-  want_keyframe_ = true;
-  next_keyframe_ = 2;
-  last_frame_keyframe_ = 1;
-  UpdateReference(false);
-  stats_.frames_tracked += 2;
-
-  const int k = static_cast<int>(pending_.size()) - 1;
-  const SE3d kf1_from_kf0 = init.current_from_reference;
-  std::vector<PendingFrame> between(pending_.begin() + 1, pending_.begin() + std::max(1, k));
-  for (const PendingFrame& p : between) frames_.push_back({p.t_ns, -1, SE3d()});
-  // Tracked once the first bundle adjustments have settled the young map (FinishKeyframe).
-  init_between_ = {std::move(between), kf1_from_kf0, k};
-  frames_.push_back({last.t_ns, 1, SE3d()});
-  std::stable_sort(frames_.begin(), frames_.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
-  velocity_ = k > 0 ? Scale(kf1_from_kf0, 1.0 / k) : SE3d();
-  last_exposure_ = last.exposure;
-  pending_.clear();
-}
-
-void System::TrackInitFrames() {
-  // Hand-held starts turn back and forth between the two keyframes (on `pan`, 60 deg away from
-  // keyframe 1 and back), so an interpolation of their relative motion is no guess for the frames
-  // between, and one keyframe may barely overlap the frames near the other (tracking a narrow
-  // overlap confuses a tilt with a sideways shift). Each frame is therefore tracked twice, in a
-  // chain forwards from keyframe 0 and backwards from keyframe 1, each from its neighbour's pose
-  // and the step between them (constant velocity), and keeps the result of the keyframe it is
-  // turned less from. A chain stops at its first failure. The references are the map's points as
-  // the bundle adjustments of the next keyframes left them: the two-view start is only a guess.
-  const std::vector<PendingFrame> between = std::move(init_between_.frames);
-  init_between_.frames.clear();
-  if (between.empty()) return;
-  const int n = static_cast<int>(between.size());
-  const auto angle = [](const std::optional<TrackResult>& r) { return r->frame_from_keyframe.So3().Log().norm(); };
-  // `stop(i, r)`: the chain ends before frame i.
-  std::vector<int> live;  // The young map's points, whichever keyframes the window holds by now.
-  for (int pid = 0; pid < map_.NumPoints(); ++pid)
-    if (!map_.point(pid).removed) live.push_back(pid);
-  const auto chain = [&](int keyframe, SE3d step, bool forward, const auto& stop) {
-    map_.LoadPyramids({keyframe});
-    FrameTracker tracker(options_.tracker);
-    tracker.SetReference(map_.keyframe(keyframe).pyramid.get(), camera_, ReferencePointsIn(keyframe, live));
-    std::vector<std::optional<TrackResult>> out(n);
-    SE3d previous;  // The neighbour's frame_from_keyframe.
-    for (int j = 0; j < n; ++j) {
-      const int i = forward ? j : n - 1 - j;
-      std::optional<TrackResult> r = tracker.Track(*between[i].pyramid, step * previous, 0.0, 0.0);
-      if (!r->ok || stop(i, r)) break;
-      step = r->frame_from_keyframe * previous.Inverse();
-      previous = r->frame_from_keyframe;
-      out[i] = std::move(r);
-    }
-    return out;
-  };
-  // Frame j + 1 from frame j, as the two-view start saw it: the chains' first guess.
-  const SE3d per_frame = Scale(init_between_.kf1_from_kf0, 1.0 / init_between_.steps);
-  const auto from_kf1 = chain(1, per_frame.Inverse(), false, [](int, const auto&) { return false; });
-  // Forwards only while keyframe 0 is the nearer one (the tracking thread may be waiting).
-  const auto from_kf0 =
-      chain(0, per_frame, true, [&](int i, const auto& r) { return from_kf1[i] && angle(from_kf1[i]) <= angle(r); });
-  const double baseline = InitBaseline();
-  for (int i = 0; i < n; ++i) {
-    const bool use_kf0 = from_kf0[i] && (!from_kf1[i] || angle(from_kf0[i]) < angle(from_kf1[i]));
-    const std::optional<TrackResult>& r = use_kf0 ? from_kf0[i] : from_kf1[i];
-    if (r) init_tracked_.push_back({between[i].t_ns, use_kf0 ? 0 : 1, r->frame_from_keyframe, baseline});
-  }
-}
-
-void System::RunOnMappingSide(std::function<void()> job, bool keyframe) {
-  if (mapping_thread_) {
-    mapping_thread_->Submit(std::move(job), keyframe);
-  } else {
-    job();
-  }
-}
-
-void System::MergeInitTracked() {
-  for (const FrameRecordInternal& t : init_tracked_) {
-    const auto it = std::lower_bound(frames_.begin(), frames_.end(), t.t_ns,
-                                     [](const FrameRecordInternal& f, int64_t v) { return f.t_ns < v; });
-    DSM_CHECK(it != frames_.end() && it->t_ns == t.t_ns, "an initialisation frame has no record");
-    *it = t;
-    ++stats_.frames_tracked;
-  }
-  init_tracked_.clear();
 }
 
 TrackResult System::TrackFrame(const ImagePyramid& pyramid, double exposure) const {

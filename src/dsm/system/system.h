@@ -119,7 +119,7 @@ class System {
   // `exposure_ms`: 0 when unknown. Returns once the frame is tracked (and, sequential, mapped).
   // `wait_until` (threaded, SystemOptions::wait_for_mapping false): while a keyframe is still being
   // mapped, the frame waits for it until then, so that it is tracked against the newest keyframe
-  // as in the sequential run, but never later (a live camera's next frame is due).
+  // as in the sequential run, but no later (the realtime pace's bound, run/realtime_wait.h).
   FrameReport Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
                       std::optional<std::chrono::steady_clock::time_point> wait_until = std::nullopt);
   // Waits until the mapping side has done all the work handed to it (nothing to wait for when
