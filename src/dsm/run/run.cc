@@ -235,7 +235,18 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   // once released (a live camera cannot be read ahead).
   std::optional<FrameReader> reader;
   if (options.pace != Pace::kRealtime) reader.emplace(dataset, undistorter, options.start, end, 2);
-  std::vector<double> latency_ms;  // Frame release (free, sequential: the reader hands it over) to pose.
+  // Frame release (free, sequential: the reader hands it over) to its first pose (System::
+  // SetPoseListener; a frame without one: to the end of its processing), and to the pose the run
+  // keeps (after any wait for a keyframe being mapped).
+  std::vector<double> latency_ms, latency_final_ms;
+  int posed_before_wait = 0;  // Frames told their pose before they waited for a keyframe being mapped.
+  std::optional<std::chrono::steady_clock::time_point> first_posed;  // The current frame's.
+  const auto listen = [&first_posed](System* s) {
+    s->SetPoseListener([&first_posed](int, const SE3d&) {
+      if (!first_posed) first_posed = std::chrono::steady_clock::now();
+    });
+  };
+  listen(system.get());
   int dropped = 0;
   std::vector<int> skipped;  // Frames whose file could not be used.
   int interrupt_signal = 0;  // The signal that stopped the run (interrupt.h), or 0.
@@ -273,10 +284,13 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     if (reader) released = std::chrono::steady_clock::now();
     std::optional<std::chrono::steady_clock::time_point> wait_until;
     if (taken) wait_until = realtime_wait.Deadline(released, i + 2 < end ? std::optional(release(i + 2)) : std::nullopt);
+    first_posed.reset();
     const FrameReport r =
         system->Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms, wait_until);
     const auto posed = std::chrono::steady_clock::now();
-    latency_ms.push_back(std::chrono::duration<double, std::milli>(posed - released).count());
+    latency_ms.push_back(std::chrono::duration<double, std::milli>(first_posed.value_or(posed) - released).count());
+    latency_final_ms.push_back(std::chrono::duration<double, std::milli>(posed - released).count());
+    posed_before_wait += r.posed_before_wait;
     if (taken) {
       realtime_wait.Record(latency_ms.back(),
                            std::chrono::duration<double, std::milli>(posed - *taken).count() - r.wait_ms);
@@ -308,6 +322,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       progress.Event("frame " + std::to_string(i) + "  new map " + std::to_string(maps.size()) +
                      " (relocalisation kept failing)");
       system = std::make_unique<System>(undistorter.output(), system_options);
+      listen(system.get());
       map_first_frame = i + 1;
     }
   }
@@ -370,10 +385,14 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.interrupt_signal = interrupt_signal;
   const nlohmann::json latency = TimingStats(latency_ms);
   summary.stats["latency_ms"] = {{"median", latency["median"]}, {"p90", latency["p90"]}, {"max", latency["max"]}};
+  const nlohmann::json latency_final = TimingStats(latency_final_ms);
+  summary.stats["latency_final_ms"] = {
+      {"median", latency_final["median"]}, {"p90", latency_final["p90"]}, {"max", latency_final["max"]}};
   summary.stats["keyframe_queue_max"] = s.keyframe_queue_max;
   summary.stats["keyframe_waits"] = s.keyframe_waits;
   summary.stats["keyframe_wait_timeouts"] = s.keyframe_wait_timeouts;
   summary.stats["keyframe_retracks"] = s.keyframe_retracks;
+  summary.stats["frames_posed_before_wait"] = posed_before_wait;
   summary.stats["pyramids_rebuilt"] = s.pyramids_rebuilt;
   summary.stats["pyramids_loaded_max"] = s.pyramids_loaded_max;
   summary.stats["processing_s"] = process_s;

@@ -187,9 +187,14 @@ TEST(Run, ThreadedPacesKeepTheSequentialAccuracy) {
     EXPECT_GE(stats["frames_tracked"].get<int>(), stats["frames"].get<int>() - 30);
     EXPECT_GT(stats["peak_rss_mb"].get<double>(), 10.0);
     EXPECT_GE(stats["latency_ms"]["max"].get<double>(), stats["latency_ms"]["p90"].get<double>());
+    // A frame's first pose comes no later than the one the run keeps.
+    for (const char* q : {"median", "p90", "max"})
+      EXPECT_LE(stats["latency_ms"][q].get<double>(), stats["latency_final_ms"][q].get<double>()) << q;
+    EXPECT_LE(stats["frames_posed_before_wait"].get<int>(), stats["keyframe_waits"].get<int>());
     ASSERT_TRUE(runs[pace].eval.has_value());
   }
   EXPECT_EQ(runs[Pace::kSequential].stats["keyframe_queue_max"].get<int>(), 0);
+  EXPECT_EQ(runs[Pace::kSequential].stats["frames_posed_before_wait"].get<int>(), 0);
   EXPECT_EQ(runs[Pace::kFree].stats["frames_dropped"].get<int>(), 0);
   EXPECT_LE(runs[Pace::kFree].stats["keyframe_queue_max"].get<int>(), 1);
   const double sequential = KeyframeAte(runs[Pace::kSequential]);

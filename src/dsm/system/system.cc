@@ -89,13 +89,6 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   // keyframe made from the confirming frame, or tracking would drift off the old one meanwhile.
   const auto wait_start = std::chrono::steady_clock::now();
   const bool wait = (want_keyframe_ && options_.wait_for_mapping) || wait_after_relocalisation_;
-  if (!wait && wait_until && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
-    // A frame tracked against the keyframe before the pending one lands further from its
-    // reference, and its candidates' traces and the next keyframe with it: it waits until
-    // `wait_until` (run/realtime_wait.h).
-    ++stats_.keyframe_waits;
-    if (!mapping_thread_->WaitForKeyframesUntil(*wait_until)) ++stats_.keyframe_wait_timeouts;
-  }
   UpdateReference(wait);
   wait_after_relocalisation_ = false;
   FrameReport report;
@@ -117,19 +110,54 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(), 1,
                                     tracker_->MeanIdepth());
   };
-  if (reason.empty() && !lost_) {
-    track();
+  // Waits for the keyframes being mapped (until `until`, or for good), then takes the newest
+  // reference; the wait is left out of the tracking time. True when the reference changed.
+  const auto wait_for_mapping = [&](std::optional<std::chrono::steady_clock::time_point> until) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::shared_ptr<const TrackingReference> before = reference_;
+    if (!until) {
+      mapping_thread_->WaitForKeyframes();
+    } else if (!mapping_thread_->WaitForKeyframesUntil(*until)) {
+      ++stats_.keyframe_wait_timeouts;
+    }
+    UpdateReference(false);
+    const auto waited = std::chrono::steady_clock::now() - start;
+    t0 += waited;
+    report.wait_ms += std::chrono::duration<double, std::milli>(waited).count();
+    return reference_ != before;
+  };
+  bool tracked = false;  // `result` and `reason` are this frame's against reference_.
+  if (!wait && wait_until && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
+    // A frame tracked against the keyframe before the pending one lands further from its
+    // reference, and its candidates' traces and the next keyframe with it: it waits until
+    // `wait_until` (run/realtime_wait.h) and is tracked against the newer one. A live camera's
+    // pose does not wait for that: it is tracked against the newest keyframe published first and
+    // told (SetPoseListener); the frame's pose the run keeps is the later one.
+    ++stats_.keyframe_waits;
+    if (pose_listener_ && reason.empty() && !lost_) {
+      track();
+      tracked = true;
+      if (reason.empty()) {
+        pose_listener_(index, (result.frame_from_keyframe * reference_->cam_from_world[reference_->keyframe]).Inverse());
+        report.posed_before_wait = true;
+      }
+    }
+    if (wait_for_mapping(wait_until) && tracked) {
+      tracked = false;
+      reason.clear();  // Its image passed (it was tracked); the tracking is done again.
+    }
+  }
+  if (!lost_ && (tracked || reason.empty())) {
+    if (!tracked) {
+      UpdateReference(false);  // A keyframe may have been published since the frame came in.
+      track();
+    }
     if (!reason.empty() && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
       // Failed against the keyframe before the one being mapped (a wait that ended first): the
       // newer keyframe may see what the camera sees now. Waiting for it costs this frame some
       // latency; a lost frame would cost a relocalisation, which waits for the mapping side too.
       ++stats_.keyframe_retracks;
-      const auto retrack_start = std::chrono::steady_clock::now();
-      mapping_thread_->WaitForKeyframes();
-      UpdateReference(false);
-      const auto waited = std::chrono::steady_clock::now() - retrack_start;
-      t0 += waited;  // Tracking time leaves the wait out.
-      report.wait_ms += std::chrono::duration<double, std::milli>(waited).count();
+      wait_for_mapping(std::nullopt);
       track();
     }
     if (!reason.empty() && tentative_) {
@@ -168,6 +196,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   report.status = TrackingStatus::kOk;
   ++stats_.frames_tracked;
   frames_.push_back({t_ns, reference_->keyframe, result.frame_from_keyframe});
+  if (pose_listener_ && !report.posed_before_wait) pose_listener_(index, *LastFramePose());
   stats_.tracking_ms.push_back(report.tracking_ms);
   // A tentative pose feeds nothing to the mapping side (and never makes a keyframe).
   if (report.relocalised) return report;

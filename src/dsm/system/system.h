@@ -55,6 +55,8 @@ struct FrameReport {
   double tracking_ms = 0.0;  // Pyramid and alignment.
   double wait_ms = 0.0;      // Waiting for a keyframe to be mapped first (threaded).
   double mapping_ms = 0.0;   // Sequential: its candidate tracing, and its mapping when it became a keyframe.
+  // Its pose was told before it waited for a keyframe being mapped (System::SetPoseListener).
+  bool posed_before_wait = false;
 };
 
 struct SystemStats {
@@ -122,6 +124,12 @@ class System {
   // as in the sequential run, but no later (the realtime pace's bound, run/realtime_wait.h).
   FrameReport Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
                       std::optional<std::chrono::steady_clock::time_point> wait_until = std::nullopt);
+  // Called on the caller's thread, from within Process, once per tracked frame as soon as it has a
+  // pose (world_from_cam): before the frame waits for a keyframe being mapped (`wait_until`),
+  // with its pose against the newest keyframe published then; the pose the run keeps
+  // (FrameTrajectory) is the one tracked after the wait. A live application takes its poses here.
+  using PoseListener = std::function<void(int index, const SE3d& world_from_cam)>;
+  void SetPoseListener(PoseListener listener) { pose_listener_ = std::move(listener); }
   // Waits until the mapping side has done all the work handed to it (nothing to wait for when
   // sequential). The accessors below read the map: call this first when threaded.
   void Finish();
@@ -303,6 +311,7 @@ class System {
   std::vector<PendingFrame> pending_;
   std::unique_ptr<class FrameTracker> tracker_;
   std::shared_ptr<const TrackingReference> reference_;  // The tracker's.
+  PoseListener pose_listener_;
   int next_keyframe_ = 0;         // Id of the next keyframe the tracking side makes.
   int last_frame_keyframe_ = -1;  // The keyframe made from the last tracked frame, if any.
   bool want_keyframe_ = false;    // The next frame waits for the pending keyframe (wait_for_mapping).
