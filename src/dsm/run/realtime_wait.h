@@ -7,8 +7,10 @@
 // camera's frame may wait for the pending keyframe, within two limits:
 //  - No frame is lost by it. The camera driver keeps the newest frame, so frame i + 1 is lost only
 //    if frame i is still busy when frame i + 2 arrives: frame i (released at r_i) waits at most
-//    until r_{i+2} - b, with b the longest time the last kRecentFrames frames spent reading and
-//    tracking (their wait left out) plus kMarginMs.
+//    until r_{i+2} - b, with b the longest time the last kRecentFrames frames spent after their
+//    wait point (FrameReport::wait_end: tracking against the newest keyframe and the hand-over to
+//    the mapping side; reading the frame and a pose told before the wait come before it) plus
+//    kMarginMs.
 //  - Optionally, latency (release to pose) stays within `latency_target_ms` for all but a few
 //    frames: a frame may wait past r_i + target - b only while fewer than kLongShare of the last
 //    kLatencyWindow frames took longer than the target. No target (infinity, the default): the
@@ -43,7 +45,8 @@ class RealtimeWait {
 
   // How long the frame released at `released` may wait; `release_after_next` is r_{i+2}.
   Clock::time_point Deadline(Clock::time_point released, std::optional<Clock::time_point> release_after_next) const;
-  // After each frame: its latency, and the time it was busy (read and processed, wait left out).
+  // After each frame: its latency, and the time it was busy after its wait point (before the map
+  // starts: read and processed, wait left out).
   void Record(double latency_ms, double busy_ms);
 
  private:

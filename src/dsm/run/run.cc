@@ -292,8 +292,9 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     latency_final_ms.push_back(std::chrono::duration<double, std::milli>(posed - released).count());
     posed_before_wait += r.posed_before_wait;
     if (taken) {
-      realtime_wait.Record(latency_ms.back(),
-                           std::chrono::duration<double, std::milli>(posed - *taken).count() - r.wait_ms);
+      const double busy = r.wait_end ? std::chrono::duration<double, std::milli>(posed - *r.wait_end).count()
+                                     : std::chrono::duration<double, std::milli>(posed - *taken).count() - r.wait_ms;
+      realtime_wait.Record(latency_ms.back(), busy);
     }
     if (debug && r.keyframe && maps.empty()) debug->AddKeyframes(*system);  // The first map's.
     // Events: tracking lost (once per episode) and regained.

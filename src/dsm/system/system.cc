@@ -124,6 +124,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     const auto waited = std::chrono::steady_clock::now() - start;
     t0 += waited;
     report.wait_ms += std::chrono::duration<double, std::milli>(waited).count();
+    if (report.wait_end) *report.wait_end += waited;  // A wait after the wait point (retrack).
     return reference_ != before;
   };
   bool tracked = false;  // `result` and `reason` are this frame's against reference_.
@@ -147,6 +148,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
       reason.clear();  // Its image passed (it was tracked); the tracking is done again.
     }
   }
+  report.wait_end = std::chrono::steady_clock::now();
   if (!lost_ && (tracked || reason.empty())) {
     if (!tracked) {
       UpdateReference(false);  // A keyframe may have been published since the frame came in.

@@ -57,6 +57,9 @@ struct FrameReport {
   double mapping_ms = 0.0;   // Sequential: its candidate tracing, and its mapping when it became a keyframe.
   // Its pose was told before it waited for a keyframe being mapped (System::SetPoseListener).
   bool posed_before_wait = false;
+  // Where its wait for a keyframe being mapped ended, or would have (none before the map starts):
+  // what comes after is the work a realtime wait has to leave time for (run/realtime_wait.h).
+  std::optional<std::chrono::steady_clock::time_point> wait_end;
 };
 
 struct SystemStats {
