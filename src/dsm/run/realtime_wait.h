@@ -35,7 +35,7 @@ namespace dsm {
 class RealtimeWait {
  public:
   using Clock = std::chrono::steady_clock;
-  static constexpr size_t kRecentFrames = 10;
+  static constexpr size_t kRecentFrames = 30;
   static constexpr size_t kLatencyWindow = 100;
   static constexpr double kLongShare = 0.08;
   static constexpr double kMarginMs = 5.0;

@@ -294,7 +294,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     if (taken) {
       const double busy = r.wait_end ? std::chrono::duration<double, std::milli>(posed - *r.wait_end).count()
                                      : std::chrono::duration<double, std::milli>(posed - *taken).count() - r.wait_ms;
-      realtime_wait.Record(latency_ms.back(), busy);
+      realtime_wait.Record(latency_final_ms.back(), busy);  // The target bounds the waits: the kept pose's.
     }
     if (debug && r.keyframe && maps.empty()) debug->AddKeyframes(*system);  // The first map's.
     // Events: tracking lost (once per episode) and regained.
