@@ -11,18 +11,17 @@
 //    wait point (FrameReport::wait_end: tracking against the newest keyframe and the hand-over to
 //    the mapping side; reading the frame and a pose told before the wait come before it) plus
 //    kMarginMs.
-//  - Optionally, latency (release to pose) stays within `latency_target_ms` for all but a few
-//    frames: a frame may wait past r_i + target - b only while fewer than kLongShare of the last
-//    kLatencyWindow frames took longer than the target. No target (infinity, the default): the
-//    first limit alone. A target of 0: no wait at all.
+//  - Optionally, the latency of the pose the run keeps (release to it) stays within
+//    `latency_target_ms` for all but a few frames: a frame may wait past r_i + target - b only
+//    while fewer than kLongShare of the last kLatencyWindow frames took longer than the target. No
+//    target (infinity, the default): the first limit alone. A target of 0: no wait at all.
+// A frame's first pose does not wait: it is told before the wait (System::SetPoseListener).
 // Near the end, with r_{i+2} unknown, only a finite target allows a wait.
-// Measured (loop, exposure, forward, rotation, shake, pan, orbit: seed 1; EuRoC): without a
-// target the realtime keyframes are the sequential ones wherever the mapping keeps up, 0 frames
-// dropped; on EuRoC latency p90 65-71 ms (ATE 4.46-4.47 mm, sequential 4.52). With a 45 ms target
-// EuRoC's p90 is 39-40 ms, but on `orbit` the waits that end at the target lost tracking as the
-// near occluder passes (frames 104-146) and the map broke (91-1556 mm in 8 of 11 runs with a
-// 40-45 ms target; never waiting: 0.89-1.35 mm in 4 of 4, waiting without a target: 1.40 mm in
-// 7 of 7).
+// Measured (loop, exposure, forward, rotation, shake, pan, orbit: seed 1; EuRoC; five runs):
+// without a target the realtime keyframes are the sequential ones wherever the mapping keeps up;
+// first-pose latency p90 8-19 ms (EuRoC 27-36), kept pose 8-41 ms (EuRoC 57-74). With a 45 ms
+// target, waits that end at the target lost tracking on `orbit` as the near occluder passes and
+// the map broke (91-1556 mm in 8 of 11 runs with a 40-45 ms target).
 #pragma once
 
 #include <chrono>
