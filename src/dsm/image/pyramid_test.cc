@@ -2,6 +2,7 @@
 #include "dsm/image/pyramid.h"
 
 #include <cmath>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -25,6 +26,31 @@ TEST(ImagePyramid, LevelsAverageAndGradientsAreCentralDifferences) {
 
 // Full pyramids hold 1/64 grey levels and 1/32 gradient steps; a frame's intensity-only pyramid
 // keeps the floats, and WithGradients gives the same full pyramid as building it at once.
+TEST(ImagePyramid, FixedPointGradientsRoundHalvesAwayFromZero) {
+  // Level-0 gradients of a fixed-point image are multiples of 1/4 in gradient units (0.5 * 32 / 64
+  // per unit step): a quarter of them are exact halves, of both signs. Each must round as
+  // std::lround does, whatever the vectorised code does.
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> grey(0, 255 * 64);
+  const int w = 64, h = 16;
+  Image<uint16_t> level0(w, h);
+  for (size_t i = 0; i < level0.size(); ++i) level0.data()[i] = static_cast<uint16_t>(grey(rng));
+  const ImagePyramid p = ImagePyramid::FromFixed(level0, 2);
+  const auto v = [&](int x, int y) { return level0(x, y) / ImagePyramid::kValueScale; };
+  const auto fixed = [](float g) { return std::lround(g * ImagePyramid::kGradientScale) / ImagePyramid::kGradientScale; };
+  int halves = 0;
+  for (int y = 1; y < h - 1; ++y)
+    for (int x = 1; x < w - 1; ++x) {
+      const float gx = 0.5f * (v(x + 1, y) - v(x - 1, y)), gy = 0.5f * (v(x, y + 1) - v(x, y - 1));
+      halves += std::abs(gx * ImagePyramid::kGradientScale - std::trunc(gx * ImagePyramid::kGradientScale)) == 0.5f;
+      const PixelGrad g = p.At(0, x, y);
+      ASSERT_FLOAT_EQ(g(0), v(x, y));
+      ASSERT_EQ(g(1), fixed(gx)) << x << "," << y;
+      ASSERT_EQ(g(2), fixed(gy)) << x << "," << y;
+    }
+  EXPECT_GT(halves, 100);
+}
+
 TEST(ImagePyramid, FixedPointFullPyramidAndIntensityOnlyFrames) {
   Image<float> img(16, 8);
   for (int y = 0; y < 8; ++y)
