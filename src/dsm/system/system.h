@@ -130,7 +130,8 @@ class System {
   // Called on the caller's thread, from within Process, once per tracked frame as soon as it has a
   // pose (world_from_cam): before the frame waits for a keyframe being mapped (`wait_until`),
   // with its pose against the newest keyframe published then; the pose the run keeps
-  // (FrameTrajectory) is the one tracked after the wait. A live application takes its poses here.
+  // (FrameTrajectory) is the one tracked after the wait (which may also fail the quality test: the
+  // frame is then lost although a pose was told). A live application takes its poses here.
   using PoseListener = std::function<void(int index, const SE3d& world_from_cam)>;
   void SetPoseListener(PoseListener listener) { pose_listener_ = std::move(listener); }
   // Waits until the mapping side has done all the work handed to it (nothing to wait for when
