@@ -40,6 +40,12 @@ nlohmann::json TimingStats(std::vector<double> ms) {
   return {{"median", at(0.5)}, {"p90", at(0.9)}, {"max", ms.back()}, {"mean", sum / ms.size()}, {"count", ms.size()}};
 }
 
+// Median, p90 and max of the latencies `ms`.
+nlohmann::json LatencyStats(std::vector<double> ms) {
+  const nlohmann::json t = TimingStats(std::move(ms));
+  return {{"median", t["median"]}, {"p90", t["p90"]}, {"max", t["max"]}};
+}
+
 // The most resident memory the process has had so far.
 double PeakRssMb() {
   rusage usage{};
@@ -384,11 +390,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["skipped_frames"] = skipped;
   summary.stats["interrupted"] = interrupt_signal != 0;
   summary.interrupt_signal = interrupt_signal;
-  const nlohmann::json latency = TimingStats(latency_ms);
-  summary.stats["latency_ms"] = {{"median", latency["median"]}, {"p90", latency["p90"]}, {"max", latency["max"]}};
-  const nlohmann::json latency_final = TimingStats(latency_final_ms);
-  summary.stats["latency_final_ms"] = {
-      {"median", latency_final["median"]}, {"p90", latency_final["p90"]}, {"max", latency_final["max"]}};
+  summary.stats["latency_ms"] = LatencyStats(latency_ms);
+  summary.stats["latency_final_ms"] = LatencyStats(latency_final_ms);
   summary.stats["keyframe_queue_max"] = s.keyframe_queue_max;
   summary.stats["keyframe_waits"] = s.keyframe_waits;
   summary.stats["keyframe_wait_timeouts"] = s.keyframe_wait_timeouts;

@@ -139,7 +139,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
       track();
       tracked = true;
       if (reason.empty()) {
-        pose_listener_(index, (result.frame_from_keyframe * reference_->cam_from_world[reference_->keyframe]).Inverse());
+        pose_listener_(index, WorldFromCam(result.frame_from_keyframe));
         report.posed_before_wait = true;
       }
     }
@@ -483,8 +483,12 @@ std::shared_ptr<const MapSnapshot> System::TrackedMapSnapshot() const {
 
 std::optional<SE3d> System::LastFramePose() const {
   if (!reference_ || reference_->keyframe < 0) return std::nullopt;
+  return WorldFromCam(last_frame_from_reference_);
+}
+
+SE3d System::WorldFromCam(const SE3d& frame_from_reference) const {
   // cam_from_world of the frame = frame_from_reference * reference's cam_from_world.
-  return (last_frame_from_reference_ * reference_->cam_from_world[reference_->keyframe]).Inverse();
+  return (frame_from_reference * reference_->cam_from_world[reference_->keyframe]).Inverse();
 }
 
 System::MapSize System::TrackedMapSize() const {

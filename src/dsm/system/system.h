@@ -218,6 +218,8 @@ class System {
   FrameReport Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure);
   void StartMap(const struct InitResult& init);
   // The best alignment of the frame against the reference from the motion guesses; commits nothing.
+  // world_from_cam of a frame at `frame_from_reference` from the tracking reference.
+  SE3d WorldFromCam(const SE3d& frame_from_reference) const;
   TrackResult TrackFrame(const ImagePyramid& pyramid, double exposure) const;
   // The frame's pose and brightness relative to the reference become the last trusted ones.
   void CommitPose(const TrackResult& result, double exposure, bool keep_velocity);
