@@ -16,6 +16,7 @@ std::string MapModeName(MapMode mode) { return mode == MapMode::kSlidingWindow ?
 void RelocalisationOptions::Validate() const {
   if (candidates < 0 || candidates > 50) throw InputError("relocalisation.candidates must be within 0..50");
   if (max_lost_frames < 0) throw InputError("relocalisation.max_lost_frames must be non-negative (0: never a new map)");
+  if (max_predicted_frames < 0) throw InputError("relocalisation.max_predicted_frames must be non-negative");
 }
 
 void SystemOptions::Validate() const {

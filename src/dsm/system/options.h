@@ -28,9 +28,15 @@ std::string MapModeName(MapMode mode);
 // against the map's keyframes (the last reference first, then the `candidates` most similar by
 // thumbnail); after `max_lost_frames` frames in a row that had texture enough to be tried and
 // still failed, the camera is taken to be somewhere new and a new map is started (0: never).
+// A relocalised pose is accepted when it lies within reach of the constant-velocity prediction
+// from the last trusted frame (TrackingQuality::CheckJump), while at most `max_predicted_frames`
+// frames were lost; otherwise (a longer loss, or a camera that turned away from the prediction)
+// only when three lost frames in a row relocalise to poses that move as one camera does
+// (system_relocalisation.cc).
 struct RelocalisationOptions {
   int candidates = 3;
   int max_lost_frames = 30;
+  int max_predicted_frames = 10;
 
   void Validate() const;
 };

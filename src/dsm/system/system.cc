@@ -106,9 +106,9 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   std::string reason = quality_.CheckImage(signature.texture);
   TrackResult result;
   const auto track = [&] {
-    result = TrackFrame(*pyramid, exposure);
-    reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(), 1,
-                                    tracker_->MeanIdepth());
+    result = TrackFrame(index, *pyramid, exposure);
+    reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(),
+                                    FramesSinceTrusted(index), tracker_->MeanIdepth());
   };
   // Waits for the keyframes being mapped (until `until`, or for good), then takes the newest
   // reference; the wait is left out of the tracking time. True when the reference changed.
@@ -173,7 +173,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     reason = quality_.CheckRelocalisationImage(signature.texture);
     if (reason.empty()) {
       Tentative before = SaveTentative(index);
-      report.relocalised = Relocalise(*pyramid, signature, exposure, &result, &reason);
+      report.relocalised = Relocalise(index, *pyramid, signature, exposure, &result, &reason);
       if (report.relocalised) tentative_ = std::move(before);
     }
     if (!report.relocalised) ++failed_relocalisations_;
@@ -188,7 +188,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   }
   lost_ = false;
   lost_in_a_row_ = failed_relocalisations_ = 0;
-  CommitPose(result, exposure, /*keep_velocity=*/!report.relocalised);
+  CommitPose(index, result, exposure, /*keep_velocity=*/!report.relocalised);
   if (report.relocalised) {
     quality_.Restart(result.residual_p50, signature.texture);
   } else {
@@ -335,14 +335,16 @@ void System::Finish() {
   MergeInitTracked();
 }
 
-TrackResult System::TrackFrame(const ImagePyramid& pyramid, double exposure) const {
+TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const {
   // Relative brightness guess: the last one, corrected for the change of exposure time.
   const double alpha_guess = last_alpha_ + std::log(exposure / last_exposure_);
   // Guesses of frame_from_reference: constant velocity first, then alternatives.
   const SE3d last = last_frame_from_reference_;
-  std::vector<SE3d> guesses = {velocity_ * last, last, velocity_ * velocity_ * last, Scale(velocity_, 0.5) * last};
+  const int gap = FramesSinceTrusted(index);
+  const SE3d step = gap == 1 ? velocity_ : Scale(velocity_, gap);  // Over the frames since the last.
+  std::vector<SE3d> guesses = {step * last, last, step * step * last, Scale(step, 0.5) * last};
   for (double angle : {0.02, -0.02})
-    for (int axis = 0; axis < 3; ++axis) guesses.push_back(internal::RotationAbout(axis, angle) * velocity_ * last);
+    for (int axis = 0; axis < 3; ++axis) guesses.push_back(internal::RotationAbout(axis, angle) * step * last);
   std::vector<std::pair<double, int>> ranked;
   for (size_t g = 0; g < guesses.size(); ++g)
     ranked.emplace_back(tracker_->CoarseEnergy(pyramid, guesses[g], alpha_guess, last_beta_), static_cast<int>(g));
@@ -360,8 +362,15 @@ TrackResult System::TrackFrame(const ImagePyramid& pyramid, double exposure) con
   return best;
 }
 
-void System::CommitPose(const TrackResult& result, double exposure, bool keep_velocity) {
-  velocity_ = keep_velocity ? result.frame_from_keyframe * last_frame_from_reference_.Inverse() : SE3d();
+int System::FramesSinceTrusted(int index) const {
+  return last_trusted_index_ >= 0 ? std::max(1, index - last_trusted_index_) : 1;
+}
+
+void System::CommitPose(int index, const TrackResult& result, double exposure, bool keep_velocity) {
+  const int gap = FramesSinceTrusted(index);
+  const SE3d step = result.frame_from_keyframe * last_frame_from_reference_.Inverse();
+  velocity_ = !keep_velocity ? SE3d() : gap == 1 ? step : Scale(step, 1.0 / gap);
+  last_trusted_index_ = index;
   last_frame_from_reference_ = result.frame_from_keyframe;
   last_alpha_ = result.alpha;
   last_beta_ = result.beta;
@@ -389,6 +398,7 @@ System::Tentative System::SaveTentative(int index) const {
   t.reference = reference_;
   t.last_frame_from_reference = last_frame_from_reference_;
   t.velocity = velocity_;
+  t.last_trusted_index = last_trusted_index_;
   t.alpha = last_alpha_;
   t.beta = last_beta_;
   t.exposure = last_exposure_;
@@ -412,6 +422,7 @@ void System::WithdrawRelocalisation() {
   if (reference_ != t.reference) AdoptReference(t.reference);
   last_frame_from_reference_ = t.last_frame_from_reference;
   velocity_ = t.velocity;
+  last_trusted_index_ = t.last_trusted_index;
   last_alpha_ = t.alpha;
   last_beta_ = t.beta;
   last_exposure_ = t.exposure;

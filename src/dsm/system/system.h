@@ -23,6 +23,7 @@
 #pragma once
 
 #include <chrono>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -220,16 +221,25 @@ class System {
   // The best alignment of the frame against the reference from the motion guesses; commits nothing.
   // world_from_cam of a frame at `frame_from_reference` from the tracking reference.
   SE3d WorldFromCam(const SE3d& frame_from_reference) const;
-  TrackResult TrackFrame(const ImagePyramid& pyramid, double exposure) const;
+  TrackResult TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const;
   // The frame's pose and brightness relative to the reference become the last trusted ones.
-  void CommitPose(const TrackResult& result, double exposure, bool keep_velocity);
+  void CommitPose(int index, const TrackResult& result, double exposure, bool keep_velocity);
+  // Frame indices from the last trusted frame to `index` (at least 1).
+  int FramesSinceTrusted(int index) const;
   // A lost frame: counted, its episode opened or extended.
   FrameReport LostFrame(FrameReport report, int64_t t_ns, std::string reason);
   // While lost (system_relocalisation.cc): aligns the frame with the reference and the keyframes most
   // like it, from the last trusted pose; on success the keyframe it passed the quality test against
   // becomes the reference and `result` holds the frame's pose relative to it. `reason`: why not.
-  bool Relocalise(const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
+  bool Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
                   TrackResult* result, std::string* reason);
+  // A lost frame's best alignment with the map that passed the quality test (camera in the world).
+  struct Sighting {
+    int index = -1;
+    SE3d cam_from_world;
+  };
+  // True when the sightings of the two lost frames before and this one move as one camera does.
+  bool MovesAsOneCamera(const Sighting& now, double mean_idepth) const;
   // The tracking side's state before a relocalisation of frame `index`, restored when the next
   // frame does not confirm it.
   struct Tentative {
@@ -237,6 +247,7 @@ class System {
     size_t record = 0;  // The relocalised frame's entry in frames_.
     std::shared_ptr<const TrackingReference> reference;
     SE3d last_frame_from_reference, velocity;
+    int last_trusted_index = -1;
     double alpha = 0.0, beta = 0.0, exposure = 1.0, first_rmse_after_keyframe = 0.0;
     TrackingQuality quality{QualityOptions{}};
     int lost_in_a_row = 0, failed_relocalisations = 0;
@@ -331,7 +342,10 @@ class System {
     int steps = 1;                     // Frame steps from keyframe 0 to keyframe 1.
   };
   InitBetween init_between_;  // Set by StartMap, tracked on the mapping side (TrackInitFrames).
-  SE3d last_frame_from_reference_, velocity_;  // velocity: last frame motion (frame_from_previous)
+  // velocity: the camera's motion per frame index (frame_from_previous over one index step; frames
+  // dropped or skipped between two trusted ones divide their step).
+  SE3d last_frame_from_reference_, velocity_;
+  int last_trusted_index_ = -1;  // Frame index of the last trusted frame.
   double last_alpha_ = 0.0, last_beta_ = 0.0;  // Brightness of the last frame relative to the reference.
   double last_exposure_ = 1.0;
   double previous_texture_ = 0.0;  // FrameSignature::texture of the frame before, whatever became of it.
@@ -341,6 +355,7 @@ class System {
   int lost_in_a_row_ = 0;           // Lost frames since the last trusted one.
   int failed_relocalisations_ = 0;  // Frames relocalisation tried and failed since the last trusted one.
   std::optional<Tentative> tentative_;  // Set from a relocalisation until the next frame confirms it.
+  std::deque<Sighting> sightings_;      // Of the last lost frames (at most two), oldest first.
   bool wait_after_relocalisation_ = false;  // The next frame waits for the confirming keyframe.
   // ORB features of the keyframes relocalisation tried, computed on first use.
   std::map<int, OrbFeatures> keyframe_features_;

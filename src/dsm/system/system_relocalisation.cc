@@ -54,7 +54,24 @@ std::vector<ReferencePoint> System::PointsSeenIn(int kf) {
   return ReferencePointsIn(kf, ids);
 }
 
-bool System::Relocalise(const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
+bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
+  // Lost frames a, b and now, relocalised each on its own: a wrong pose (a place that looks alike,
+  // a wrong minimum) is found by one frame, not by three that move on smoothly. The step a -> b
+  // within the reach of the speed before the loss, the step b -> now within that of the constant
+  // velocity a -> b (frames may be missing between them: dropped, or without texture enough).
+  constexpr int kMaxGap = 3;
+  if (sightings_.size() < 2) return false;
+  const Sighting& a = sightings_[0];
+  const Sighting& b = sightings_[1];
+  const int n1 = b.index - a.index, n2 = now.index - b.index;
+  if (n1 < 1 || n2 < 1 || n1 > kMaxGap || n2 > kMaxGap) return false;
+  const SE3d b_from_a = b.cam_from_world * a.cam_from_world.Inverse();
+  const SE3d now_from_b = now.cam_from_world * b.cam_from_world.Inverse();
+  if (!quality_.CheckSpeed(b_from_a, n1, velocity_.Translation().norm(), mean_idepth).empty()) return false;
+  return quality_.CheckJump(now_from_b, n2, internal::Scale(b_from_a, 1.0 / n1), mean_idepth).empty();
+}
+
+bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
                         TrackResult* result, std::string* reason) {
   // The map is read below: the mapping side must be idle (nothing is handed to it while lost).
   if (mapping_thread_) mapping_thread_->WaitUntilIdle();
@@ -65,8 +82,9 @@ bool System::Relocalise(const ImagePyramid& pyramid, const FrameSignature& signa
   const AffineBrightness last_brightness =
       internal::FrameBrightness(map_.keyframe(ref).affine, map_.keyframe(ref).exposure, last_alpha_, last_beta_,
                                 last_exposure_);
-  const SE3d moved = internal::Scale(velocity_, lost_in_a_row_ + 1.0);
-  const SE3d half = internal::Scale(velocity_, 0.5 * (lost_in_a_row_ + 1.0));
+  const int since = FramesSinceTrusted(index);
+  const SE3d moved = internal::Scale(velocity_, since);
+  const SE3d half = internal::Scale(velocity_, 0.5 * since);
   // Coarse to fine over the whole pyramid: the frame may be far from every keyframe.
   TrackerOptions tracker_options = options_.tracker;
   while (tracker_options.levels < options_.pyramid_levels) {
@@ -99,8 +117,11 @@ bool System::Relocalise(const ImagePyramid& pyramid, const FrameSignature& signa
     int keyframe = -1;
     std::vector<ReferencePoint> points;
     std::shared_ptr<const ImagePyramid> pyramid;
+    double mean_idepth = 0.0;
   };
-  std::optional<Found> best;
+  // best: passed the quality test and the jump check; sighted: passed the quality test.
+  std::optional<Found> best, sighted;
+  const bool predicted = since <= options_.relocalisation.max_predicted_frames;
   std::string why = "no keyframe to relocalise against";
   for (int k : candidates) {
     const Keyframe& kf = map_.keyframe(k);
@@ -127,24 +148,42 @@ bool System::Relocalise(const ImagePyramid& pyramid, const FrameSignature& signa
     for (size_t g = 0; g < guesses.size(); ++g)
       ranked.emplace_back(tracker.CoarseEnergyOverAll(pyramid, guesses[g], alpha, beta), static_cast<int>(g));
     std::stable_sort(ranked.begin(), ranked.end());
-    const int attempts = std::getenv("DSM_ALL") ? static_cast<int>(ranked.size()) : 2;
+    // The two guesses of lowest coarse energy are refined.
+    const int attempts = std::min<int>(2, static_cast<int>(ranked.size()));
     for (int attempt = 0; attempt < attempts; ++attempt) {
       const TrackResult r = tracker.Track(pyramid, guesses[ranked[attempt].second], alpha, beta);
       const SE3d step = r.frame_from_keyframe * kf.cam_from_world * last_from_world.Inverse();
-      std::string fail = quality_.CheckTracking(r, step, lost_in_a_row_ + 1, tracker.MeanIdepth());
-      if (fail.empty()) fail = quality_.CheckJump(step, lost_in_a_row_ + 1, velocity_, tracker.MeanIdepth());
-      if (std::getenv("DSM_RELDBG")) std::fprintf(stderr, "RELOC kf %d (ref %d) guess %d/%zu coarse %.1f p50 %.2f inl %.2f step %.3f rot %.2f deg: %s\n", k, ref, ranked[attempt].second, guesses.size(), ranked[attempt].first, r.residual_p50, r.inlier_ratio, step.Translation().norm(), step.So3().Log().norm()*57.3, fail.c_str());
+      std::string fail = quality_.CheckTracking(r, step, since, tracker.MeanIdepth());
+      if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))
+        sighted = Found{r, k, points, kf_pyramid, tracker.MeanIdepth()};
+      if (fail.empty()) {
+        fail = predicted ? quality_.CheckJump(step, since, velocity_, tracker.MeanIdepth())
+                         : "lost too long to predict the pose";
+      }
       if (!fail.empty()) {
         why = fail;
         continue;
       }
-      if (!best || r.residual_p50 < best->result.residual_p50) best = Found{r, k, points, kf_pyramid};
+      if (!best || r.residual_p50 < best->result.residual_p50)
+        best = Found{r, k, points, kf_pyramid, tracker.MeanIdepth()};
     }
+  }
+  if (!best && sighted) {
+    const Sighting now{index, sighted->result.frame_from_keyframe * map_.keyframe(sighted->keyframe).cam_from_world};
+    if (MovesAsOneCamera(now, sighted->mean_idepth)) {
+      best = std::move(sighted);
+    } else {
+      sightings_.push_back(now);
+      if (sightings_.size() > 2) sightings_.pop_front();
+    }
+  } else if (!best) {
+    sightings_.clear();
   }
   if (!best) {
     *reason = "relocalisation failed: " + why;
     return false;
   }
+  sightings_.clear();
   // The keyframe becomes the reference of both sides: the mapping side is idle, and the next
   // keyframe it maps is made relative to it.
   if (best->keyframe != ref) AdoptReference(MakeReference(best->keyframe, std::move(best->points), best->pyramid));

@@ -102,7 +102,10 @@ void System::StartMap(const InitResult& init) {
   init_between_ = {std::move(between), kf1_from_kf0, k};
   frames_.push_back({last.t_ns, 1, SE3d()});
   std::stable_sort(frames_.begin(), frames_.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
-  velocity_ = k > 0 ? Scale(kf1_from_kf0, 1.0 / k) : SE3d();
+  // Per frame index (frames dropped while starting count as well).
+  const int index_steps = last.index - pending_.front().index;
+  velocity_ = index_steps > 0 ? Scale(kf1_from_kf0, 1.0 / index_steps) : SE3d();
+  last_trusted_index_ = last.index;
   last_exposure_ = last.exposure;
   pending_.clear();
 }

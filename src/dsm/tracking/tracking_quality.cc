@@ -82,11 +82,17 @@ std::string TrackingQuality::CheckTracking(const TrackResult& r, const SE3d& ste
   return {};
 }
 
-std::string TrackingQuality::CheckJump(const SE3d& step, int frames, const SE3d& velocity, double mean_idepth) const {
-  const int n = std::max(frames, 1);
-  const double reach = n * (options_.max_speed_ratio * velocity.Translation().norm() + options_.min_speed / mean_idepth);
+std::string TrackingQuality::CheckSpeed(const SE3d& step, int frames, double speed, double mean_idepth) const {
+  const double reach = std::max(frames, 1) * (options_.max_speed_ratio * speed + options_.min_speed / mean_idepth);
   const double moved = step.Translation().norm();
   if (!(moved <= reach)) return Format("implausible jump (%.2g, reach %.2g)", moved, reach);
+  return {};
+}
+
+std::string TrackingQuality::CheckJump(const SE3d& step, int frames, const SE3d& velocity, double mean_idepth) const {
+  const int n = std::max(frames, 1);
+  std::string fail = CheckSpeed(step, n, velocity.Translation().norm(), mean_idepth);
+  if (!fail.empty()) return fail;
   // The turn from the constant-velocity prediction, velocity^frames.
   const SO3d predicted = SO3d::Exp(velocity.So3().Log() * static_cast<double>(n));
   const double off_deg = (step.So3() * predicted.Inverse()).Log().norm() * 180.0 / M_PI;

@@ -75,6 +75,8 @@ class TrackingQuality {
   // CheckTracking), `frames` later; `velocity`: the camera's motion per frame before it was lost;
   // `mean_idepth`: of the reference's points.
   std::string CheckJump(const SE3d& step, int frames, const SE3d& velocity, double mean_idepth) const;
+  // CheckJump's reach alone, for a camera moving `speed` per frame (translation, map units).
+  std::string CheckSpeed(const SE3d& step, int frames, double speed, double mean_idepth) const;
   // A trusted frame: its values join the levels.
   void Trust(double residual_p50, double texture);
   // A relocalised frame: its reference is another keyframe, often a farther one than tracking

@@ -65,6 +65,14 @@ TEST(TrackingQuality, BoundsTheJumpOfARelocalisation) {
   EXPECT_NE(q.CheckJump(Turned(-16.0), 15, Turned(1.5), 1.0).find("implausible turn"), std::string::npos);
 }
 
+TEST(TrackingQuality, CheckSpeedIsTheJumpsReachAlone) {
+  TrackingQuality q{QualityOptions{}};
+  // 3 frames at speed 0.05, depth 2: 3 x (2 x 0.05 + 0.02 / 0.5) = 0.42, whatever the turn.
+  EXPECT_EQ(q.CheckSpeed(Turned(90.0, 0.41), 3, 0.05, 0.5), "");
+  EXPECT_NE(q.CheckSpeed(Turned(0.0, 0.43), 3, 0.05, 0.5).find("implausible jump"), std::string::npos);
+  EXPECT_NE(q.CheckJump(Turned(90.0, 0.41), 3, Turned(0.0, 0.05), 0.5).find("implausible turn"), std::string::npos);
+}
+
 TEST(TrackingQuality, OnlyAFrameWithTheUsualTextureRelocalises) {
   QualityOptions o;
   o.history = 3;
