@@ -18,7 +18,9 @@
 #            also where the gradient is at the image noise's level), two-view (the initialiser
 #            re-tracks its corners from the reference image and refines RANSAC's motion on all inliers),
 #            free-sigma (each keyframe's error model fitted without the bound on its scale),
-#            smooth (frames smoothed when the first one is noisy: system.smoothing_sigma -1)
+#            smooth (frames smoothed when the first one is noisy: system.smoothing_sigma -1),
+#            newest-model (only the newest keyframe's error model is fitted, to the residuals of
+#            points hosted by free keyframes, as the original DSM: pba.refit_all_models false)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -32,7 +34,7 @@ cd "$(dirname "$0")/.."
 JOBS=1
 SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure orbit euroc room"
-CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor two-view free-sigma smooth"
+CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor two-view free-sigma smooth newest-model"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -61,6 +63,7 @@ printf 'candidates:\n  noise_factor: 0\n' > "$WORK/no-noise-floor.yaml"
 printf 'initializer:\n  track_from_reference: true\n  refine_motion: true\n' > "$WORK/two-view.yaml"
 printf 'pba:\n  max_sigma_ratio: 0\n' > "$WORK/free-sigma.yaml"
 printf 'system:\n  smoothing_sigma: -1\n' > "$WORK/smooth.yaml"
+printf 'pba:\n  refit_all_models: false\n' > "$WORK/newest-model.yaml"
 
 args_for() {
   case "$1" in
@@ -75,7 +78,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | two-view | free-sigma | smooth) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | two-view | free-sigma | smooth | newest-model) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac

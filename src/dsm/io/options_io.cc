@@ -98,6 +98,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["pba.drop_outlier_ratio"] = Set(&o->pba.drop_outlier_ratio);
   s["pba.skip_outlier_ratio"] = Set(&o->pba.skip_outlier_ratio);
   s["pba.max_sigma_ratio"] = Set(&o->pba.max_sigma_ratio);
+  s["pba.refit_all_models"] = Set(&o->pba.refit_all_models);
   // The robust function applies to the bundle adjustment and the tracker alike.
   s["robust.function"] = [o](const YAML::Node& n) {
     const RobustKind kind = ParseRobustKind(n.as<std::string>(), "robust.function");

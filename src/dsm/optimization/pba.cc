@@ -131,10 +131,12 @@ class Problem {
         PointState& ps = points_[i];
         if (i + 1 < end) Prefetch(i + 1);
         if (!ps.patch_ok) continue;
+        const bool skip_fit = !options_.refit_all_models && fixed_[ps.host];
         for (ObsState& o : ps.obs) {
           ObservationResiduals res;
           if (!Evaluate(ps, o, false, &res)) continue;
           Remember(res, &o);
+          if (skip_fit) continue;
           std::vector<float>& out = chunk_residuals[chunk][o.target];
           for (int k = 0; k < kPatternSize; ++k) out.push_back(std::sqrt(res.weight_g[k]) * res.r[k]);
         }
@@ -149,7 +151,7 @@ class Problem {
     const size_t n = cams_.size();
     std::vector<std::vector<std::vector<float>>> chunk_residuals(1, std::vector<std::vector<float>>(n));
     for (const PointState& ps : points_) {
-      if (!ps.patch_ok) continue;
+      if (!ps.patch_ok || (!options_.refit_all_models && fixed_[ps.host])) continue;
       for (const ObsState& o : ps.obs) {
         if (!o.valid[current_]) continue;
         std::vector<float>& out = chunk_residuals[0][o.target];
@@ -390,6 +392,7 @@ class Problem {
   // Per camera: its residuals, concatenated over the chunks in order, and its model fitted to them.
   // Fitted scales are bounded by max_sigma_ratio times their median (pba.h).
   void FitFromChunks(const std::vector<std::vector<std::vector<float>>>& chunk_residuals) {
+    if (!options_.refit_all_models) return FitNewest(chunk_residuals);
     std::vector<uint8_t> fitted(cams_.size(), 0);
     tbb::parallel_for(size_t{0}, cams_.size(), [&](size_t c) {
       std::vector<float> residuals;
@@ -399,6 +402,27 @@ class Problem {
     });
     if (options_.max_sigma_ratio > 0) BoundErrorModelScales(options_.max_sigma_ratio, fitted, &models_);
     for (size_t c = 0; c < cams_.size(); ++c) map_->keyframe(cams_[c]).error_model = models_[c];
+  }
+
+  // pba.refit_all_models false: only the newest free keyframe's model is fitted (kept when it has
+  // too few residuals); its scale is bounded by the median over the fitted models of the problem.
+  void FitNewest(const std::vector<std::vector<std::vector<float>>>& chunk_residuals) {
+    int newest = -1;
+    for (size_t c = 0; c < cams_.size(); ++c)
+      if (!fixed_[c] && (newest < 0 || cams_[c] > cams_[newest])) newest = static_cast<int>(c);
+    if (newest < 0) return;
+    std::vector<float> residuals;
+    for (const auto& chunk : chunk_residuals) residuals.insert(residuals.end(), chunk[newest].begin(), chunk[newest].end());
+    if (static_cast<int>(residuals.size()) < options_.robust.min_residuals) return;
+    models_[newest] = FitErrorModel(residuals, options_.robust);
+    if (options_.max_sigma_ratio > 0) {
+      std::vector<uint8_t> fitted(cams_.size(), 0);
+      for (size_t c = 0; c < cams_.size(); ++c) fitted[c] = models_[c].fitted;
+      std::vector<ErrorModel> bounded = models_;
+      BoundErrorModelScales(options_.max_sigma_ratio, fitted, &bounded);
+      models_[newest] = bounded[newest];
+    }
+    map_->keyframe(cams_[newest]).error_model = models_[newest];
   }
 
   // Robust energy of the 8 pixels given sqrt(w_g) per pixel; counts pixels above the inlier

@@ -68,6 +68,29 @@ TEST(Pba, HeldKeyframesKeepTheirPosesWhileTheirPointsMove) {
   EXPECT_LT(s.final_energy, s.initial_energy);
 }
 
+TEST(Pba, OnlyTheNewestModelIsRefittedWhenAsked) {
+  World w;
+  BuildWorld({0, 6, 12, 18}, &w);
+  Perturb(&w);
+  ErrorModel old_model;
+  old_model.sigma = 4.0;
+  old_model.fitted = true;
+  for (int k = 0; k < 3; ++k) w.map.keyframe(k).error_model = old_model;
+  PbaOptions options;
+  options.refit_all_models = false;
+  RunPba(&w.map, w.seq.camera, {0, 1, 2, 3}, options);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(w.map.keyframe(k).error_model.sigma, 4.0) << "keyframe " << k;
+  EXPECT_TRUE(w.map.keyframe(3).error_model.fitted);
+  EXPECT_NE(w.map.keyframe(3).error_model.sigma, ErrorModel{}.sigma);
+  // By default every keyframe observed in the problem gets a model fitted to its residuals.
+  World all;
+  BuildWorld({0, 6, 12, 18}, &all);
+  Perturb(&all);
+  for (int k = 0; k < 3; ++k) all.map.keyframe(k).error_model = old_model;
+  RunPba(&all.map, all.seq.camera, {0, 1, 2, 3}, PbaOptions{});
+  EXPECT_NE(all.map.keyframe(1).error_model.sigma, 4.0);
+}
+
 TEST(Pba, KeepsTheNewestObservationsOutsideTheWindow) {
   World w;
   BuildWorld({0, 6, 12, 18}, &w);

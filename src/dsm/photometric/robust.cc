@@ -87,6 +87,7 @@ ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, con
   m.sigma = std::exp(fit.x(1));
   m.inlier_threshold = TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile);
   m.outlier_threshold = m.inlier_threshold;
+  m.fitted = true;
   return m;
 }
 
@@ -163,6 +164,7 @@ ErrorModel FitTMixture(const std::vector<double>& abs_r, double mad_sigma, const
     crossover = L > 0.0 ? m.sigma * std::sqrt(m.nu * std::expm1(2.0 * L / (m.nu + 1.0))) : 0.0;
   }
   m.outlier_threshold = std::clamp(crossover, m.inlier_threshold, R);
+  m.fitted = true;
   return m;
 }
 
@@ -252,6 +254,7 @@ ErrorModel FitErrorModel(const std::vector<float>& residuals, const RobustOption
     m.sigma = mad_sigma;
     m.huber_k = 1.345 * mad_sigma;
     m.inlier_threshold = m.outlier_threshold = m.huber_k;
+    m.fitted = true;
     return m;
   }
   const ErrorModel fitted =

@@ -64,6 +64,7 @@ struct ErrorModel {
   double inlier_threshold = 15.1;  // |r| above this marks an outlier pixel
   double outlier_threshold = 15.1; // |r| above this is more likely an outlier than an inlier
   double inlier_share = 1.0;       // t: fitted share pi of inliers among |r| <= gross_residual
+  bool fitted = false;             // Fitted to residuals (false: the default model).
 
   double Weight(double r) const;  // Both inline below: the hottest calls of the system.
   double Energy(double r) const;
