@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "dsm/optimization/normal_equations.h"
+#include "dsm/optimization/pba_models.h"
 #include "dsm/optimization/pba_selection.h"
 #include "dsm/util/check.h"
 
@@ -131,7 +132,7 @@ class Problem {
         PointState& ps = points_[i];
         if (i + 1 < end) Prefetch(i + 1);
         if (!ps.patch_ok) continue;
-        const bool skip_fit = !options_.refit_all_models && fixed_[ps.host];
+        const bool skip_fit = !FitsModels(ps);
         for (ObsState& o : ps.obs) {
           ObservationResiduals res;
           if (!Evaluate(ps, o, false, &res)) continue;
@@ -151,7 +152,7 @@ class Problem {
     const size_t n = cams_.size();
     std::vector<std::vector<std::vector<float>>> chunk_residuals(1, std::vector<std::vector<float>>(n));
     for (const PointState& ps : points_) {
-      if (!ps.patch_ok || (!options_.refit_all_models && fixed_[ps.host])) continue;
+      if (!ps.patch_ok || !FitsModels(ps)) continue;
       for (const ObsState& o : ps.obs) {
         if (!o.valid[current_]) continue;
         std::vector<float>& out = chunk_residuals[0][o.target];
@@ -389,40 +390,14 @@ class Problem {
     return EvaluateObservation(ps.patch, in, derivatives, res);
   }
 
-  // Per camera: its residuals, concatenated over the chunks in order, and its model fitted to them.
-  // Fitted scales are bounded by max_sigma_ratio times their median (pba.h).
-  void FitFromChunks(const std::vector<std::vector<std::vector<float>>>& chunk_residuals) {
-    if (!options_.refit_all_models) return FitNewest(chunk_residuals);
-    std::vector<uint8_t> fitted(cams_.size(), 0);
-    tbb::parallel_for(size_t{0}, cams_.size(), [&](size_t c) {
-      std::vector<float> residuals;
-      for (const auto& chunk : chunk_residuals) residuals.insert(residuals.end(), chunk[c].begin(), chunk[c].end());
-      models_[c] = FitErrorModel(residuals, options_.robust);
-      fitted[c] = static_cast<int>(residuals.size()) >= options_.robust.min_residuals;
-    });
-    if (options_.max_sigma_ratio > 0) BoundErrorModelScales(options_.max_sigma_ratio, fitted, &models_);
-    for (size_t c = 0; c < cams_.size(); ++c) map_->keyframe(cams_[c]).error_model = models_[c];
-  }
+  // Whether the point's residuals take part in the model fits: with pba.refit_all_models false,
+  // only points hosted by free keyframes.
+  bool FitsModels(const PointState& ps) const { return options_.refit_all_models || !fixed_[ps.host]; }
 
-  // pba.refit_all_models false: only the newest free keyframe's model is fitted (kept when it has
-  // too few residuals); its scale is bounded by the median over the fitted models of the problem.
-  void FitNewest(const std::vector<std::vector<std::vector<float>>>& chunk_residuals) {
-    int newest = -1;
-    for (size_t c = 0; c < cams_.size(); ++c)
-      if (!fixed_[c] && (newest < 0 || cams_[c] > cams_[newest])) newest = static_cast<int>(c);
-    if (newest < 0) return;
-    std::vector<float> residuals;
-    for (const auto& chunk : chunk_residuals) residuals.insert(residuals.end(), chunk[newest].begin(), chunk[newest].end());
-    if (static_cast<int>(residuals.size()) < options_.robust.min_residuals) return;
-    models_[newest] = FitErrorModel(residuals, options_.robust);
-    if (options_.max_sigma_ratio > 0) {
-      std::vector<uint8_t> fitted(cams_.size(), 0);
-      for (size_t c = 0; c < cams_.size(); ++c) fitted[c] = models_[c].fitted;
-      std::vector<ErrorModel> bounded = models_;
-      BoundErrorModelScales(options_.max_sigma_ratio, fitted, &bounded);
-      models_[newest] = bounded[newest];
-    }
-    map_->keyframe(cams_[newest]).error_model = models_[newest];
+  // Fits the error models (pba_models.h) and stores the fitted ones in their keyframes.
+  void FitFromChunks(const std::vector<std::vector<std::vector<float>>>& chunk_residuals) {
+    for (int c : FitPbaModels(chunk_residuals, cams_, fixed_, options_, &models_))
+      map_->keyframe(cams_[c]).error_model = models_[c];
   }
 
   // Robust energy of the 8 pixels given sqrt(w_g) per pixel; counts pixels above the inlier

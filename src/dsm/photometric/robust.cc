@@ -213,12 +213,16 @@ void CapErrorModelScale(double max_sigma, ErrorModel* model) {
   model->outlier_threshold *= f;
 }
 
-void BoundErrorModelScales(double max_ratio, const std::vector<uint8_t>& fitted, std::vector<ErrorModel>* models) {
+double ErrorModelScaleCap(double max_ratio, const std::vector<uint8_t>& fitted, const std::vector<ErrorModel>& models) {
   std::vector<double> sigmas;
-  for (size_t i = 0; i < models->size(); ++i)
-    if (fitted[i]) sigmas.push_back((*models)[i].sigma);
-  if (sigmas.size() < 3) return;
-  const double cap = max_ratio * Median(sigmas);
+  for (size_t i = 0; i < models.size(); ++i)
+    if (fitted[i]) sigmas.push_back(models[i].sigma);
+  if (sigmas.size() < 3) return std::numeric_limits<double>::infinity();
+  return max_ratio * Median(sigmas);
+}
+
+void BoundErrorModelScales(double max_ratio, const std::vector<uint8_t>& fitted, std::vector<ErrorModel>* models) {
+  const double cap = ErrorModelScaleCap(max_ratio, fitted, *models);
   for (size_t i = 0; i < models->size(); ++i)
     if (fitted[i]) CapErrorModelScale(cap, &(*models)[i]);
 }

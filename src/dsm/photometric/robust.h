@@ -112,9 +112,11 @@ ErrorModel FitErrorModel(const std::vector<float>& residuals, const RobustOption
 // sigma for a given nu). Huber models are left as they are.
 void CapErrorModelScale(double max_sigma, ErrorModel* model);
 
-// Caps the scale of each fitted model (fitted[i] != 0; too few residuals keep the default model,
-// which is not counted) at max_ratio times the median scale of the fitted models, when there are
-// at least three of them.
+// max_ratio times the median scale of the fitted models (fitted[i] != 0; too few residuals keep
+// the default model, which is not counted); infinity when fewer than three are fitted.
+double ErrorModelScaleCap(double max_ratio, const std::vector<uint8_t>& fitted, const std::vector<ErrorModel>& models);
+
+// Caps the scale of each fitted model at ErrorModelScaleCap.
 void BoundErrorModelScales(double max_ratio, const std::vector<uint8_t>& fitted, std::vector<ErrorModel>* models);
 
 // Negative log-likelihood of residuals under t(nu, 0, sigma).

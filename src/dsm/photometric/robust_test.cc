@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/photometric/robust.h"
 
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -154,6 +155,7 @@ TEST(BoundErrorModelScales, CapsFittedModelsAtARatioOfTheirMedianScale) {
   models[2].sigma = 20.0;
   models[2].inlier_threshold = 40.0;
   models[3].sigma = 50.0;  // Not fitted: neither counted nor capped.
+  EXPECT_DOUBLE_EQ(ErrorModelScaleCap(3.0, {1, 1, 1, 0}, models), 9.0);
   BoundErrorModelScales(3.0, {1, 1, 1, 0}, &models);
   EXPECT_DOUBLE_EQ(models[0].sigma, 2.0);
   EXPECT_DOUBLE_EQ(models[1].sigma, 3.0);
@@ -164,6 +166,7 @@ TEST(BoundErrorModelScales, CapsFittedModelsAtARatioOfTheirMedianScale) {
   std::vector<ErrorModel> two(2);
   two[0].sigma = 1.0;
   two[1].sigma = 30.0;
+  EXPECT_TRUE(std::isinf(ErrorModelScaleCap(2.0, {1, 1}, two)));
   BoundErrorModelScales(2.0, {1, 1}, &two);
   EXPECT_DOUBLE_EQ(two[1].sigma, 30.0);
 }
