@@ -26,6 +26,8 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["system.smoothing_sigma"] = Set(&o->smoothing_sigma);
   s["system.smoothing_noise_threshold"] = Set(&o->smoothing_noise_threshold);
   s["system.smoothing_auto_sigma"] = Set(&o->smoothing_auto_sigma);
+  s["system.young_map_ba_first"] = Set(&o->young_map_ba_first);
+  s["system.young_map_ba_last"] = Set(&o->young_map_ba_last);
   s["initializer.max_corners"] = Set(&o->initializer.max_corners);
   s["initializer.min_parallax_deg"] = Set(&o->initializer.min_parallax_deg);
   s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);
@@ -66,6 +68,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["quality.min_keyframe_texture_step"] = Set(&o->quality.min_keyframe_texture_step);
   s["quality.min_turn_deg"] = Set(&o->quality.min_turn_deg);
   s["quality.max_residual_ratio"] = Set(&o->quality.max_residual_ratio);
+  s["quality.max_relocalisation_residual_ratio"] = Set(&o->quality.max_relocalisation_residual_ratio);
   s["quality.min_inlier_ratio"] = Set(&o->quality.min_inlier_ratio);
   s["quality.max_rotation_deg"] = Set(&o->quality.max_rotation_deg);
   s["quality.max_parallax"] = Set(&o->quality.max_parallax);

@@ -160,6 +160,7 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     append(&all.tracing_ms, s.tracing_ms);
     append(&all.mapping_ms, s.mapping_ms);
     append(&all.pba_ms, s.pba_ms);
+    append(&all.young_map_ba_ms, s.young_map_ba_ms);
     all.points_created += s.points_created;
     all.reobservations += s.reobservations;
     all.covisible_keyframes_selected += s.covisible_keyframes_selected;
@@ -357,6 +358,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                             {"pba", {{"keyframes", k.pba_keyframes}, {"fixed_keyframes", k.pba_fixed_keyframes},
                                      {"points", k.pba_points}, {"observations", k.pba_observations},
                                      {"iterations", k.pba_iterations}, {"ms", k.pba_ms}}}});
+    if (k.young_map_ba_keyframes > 0)
+      per_keyframe.back()["young_map_ba"] = {{"keyframes", k.young_map_ba_keyframes}, {"ms", k.young_map_ba_ms}};
     created.push_back(k.points_created);
   }
   summary.stats = {
@@ -381,7 +384,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"per_keyframe", per_keyframe},
       {"per_frame", per_frame},
       {"timing_ms", {{"tracking", TimingStats(s.tracking_ms)}, {"tracing", TimingStats(s.tracing_ms)},
-                     {"mapping", TimingStats(s.mapping_ms)}, {"pba", TimingStats(s.pba_ms)}}},
+                     {"mapping", TimingStats(s.mapping_ms)}, {"pba", TimingStats(s.pba_ms)},
+                     {"young_map_ba", TimingStats(s.young_map_ba_ms)}}},
   };
   if (options.global_ba) summary.stats["timing_ms"]["global_ba"] = s.global_ba_ms;
   summary.stats["pace"] = PaceName(options.pace);

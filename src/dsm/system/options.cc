@@ -19,6 +19,13 @@ void RelocalisationOptions::Validate() const {
   if (max_predicted_frames < 0) throw InputError("relocalisation.max_predicted_frames must be non-negative");
 }
 
+bool SystemOptions::YoungMapBaDue(int keyframes) const {
+  if (mode != MapMode::kFull || keyframes > young_map_ba_last) return false;
+  for (int n = young_map_ba_first; n <= keyframes; n *= 2)
+    if (n == keyframes) return true;
+  return false;
+}
+
 void SystemOptions::Validate() const {
   if (pyramid_levels < 1 || pyramid_levels > 6) throw InputError("pyramid_levels must be within 1..6");
   if (max_initialization_frames < 5) throw InputError("max_initialization_frames must be at least 5");
@@ -27,6 +34,8 @@ void SystemOptions::Validate() const {
   if (!(smoothing_noise_threshold >= 0.0)) throw InputError("system.smoothing_noise_threshold must be non-negative");
   if (!(smoothing_auto_sigma >= 0.0 && smoothing_auto_sigma <= 3.0))
     throw InputError("system.smoothing_auto_sigma must be within 0..3");
+  if (young_map_ba_first < 2) throw InputError("system.young_map_ba_first must be at least 2");
+  if (young_map_ba_last < 0) throw InputError("system.young_map_ba_last must be non-negative (0: none)");
   if (tracker.levels > pyramid_levels) throw InputError("tracker.levels cannot exceed pyramid_levels");
   if (pba.levels > pyramid_levels) throw InputError("pba.levels cannot exceed pyramid_levels");
   initializer.Validate();

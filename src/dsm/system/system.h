@@ -77,6 +77,7 @@ struct SystemStats {
   std::vector<double> tracing_ms;   // Per tracked frame: candidate tracing (mapping side).
   std::vector<double> mapping_ms;   // Per keyframe: everything the mapping side does to it.
   std::vector<double> pba_ms;       // Per keyframe.
+  std::vector<double> young_map_ba_ms;  // Per young-map bundle adjustment.
   int points_created = 0;           // Initial points and activated candidates.
   int reobservations = 0;           // Observations created for points hosted outside the temporal window.
   int covisible_keyframes_selected = 0;  // Summed over keyframes.
@@ -89,6 +90,10 @@ struct SystemStats {
     // observations, LM iterations over all levels.
     int pba_keyframes = 0, pba_fixed_keyframes = 0, pba_points = 0, pba_observations = 0, pba_iterations = 0;
     double pba_ms = 0.0;           // Its bundle adjustment's time.
+    // The young map's bundle adjustment that followed (SystemOptions::young_map_ba_first), if any:
+    // its keyframes and time.
+    int young_map_ba_keyframes = 0;
+    double young_map_ba_ms = 0.0;
     int observations_removed = 0;  // Marked outliers after its bundle adjustment.
     int points_culled = 0;         // Removed after its bundle adjustment.
     // Tracking of the frame that became this keyframe (0 for the first two).
@@ -292,6 +297,8 @@ class System {
   void AdoptReference(std::shared_ptr<const TrackingReference> ref);
   // Maps keyframe kf and publishes it as the tracking reference.
   void MapNewKeyframe(int kf);
+  // One bundle adjustment of every keyframe (keyframe 0 fixed) and point.
+  PbaSummary AdjustWholeMap();
   // What the tracking reference does not need, done after it is published: kf's candidates (traced
   // in the frames that follow) and the release of pyramids no longer used.
   void FinishKeyframe(int kf);

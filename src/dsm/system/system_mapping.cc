@@ -100,6 +100,11 @@ void System::MapNewKeyframe(int kf) {
   log.pba_ms = pba.time_ms;
   log.observations_removed = pba.observations_removed;
   stats_.pba_ms.push_back(pba.time_ms);
+  if (options_.YoungMapBaDue(map_.NumKeyframes())) {
+    log.young_map_ba_keyframes = map_.NumKeyframes();
+    log.young_map_ba_ms = AdjustWholeMap().time_ms;
+    stats_.young_map_ba_ms.push_back(log.young_map_ba_ms);
+  }
   log.points_culled = CullPoints();
   PublishTrackingReference();
 }
@@ -154,12 +159,15 @@ void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
   stats_.reobservations += log.reobservations;
 }
 
-void System::RunGlobalBundleAdjustment() {
-  if (map_.NumKeyframes() < 2) return;
+PbaSummary System::AdjustWholeMap() {
   std::vector<int> all(map_.NumKeyframes());
   for (int k = 0; k < map_.NumKeyframes(); ++k) all[k] = k;
-  const PbaSummary pba = RunPba(&map_, camera_, all, options_.pba);
-  stats_.global_ba_ms = pba.time_ms;
+  return RunPba(&map_, camera_, all, options_.pba);
+}
+
+void System::RunGlobalBundleAdjustment() {
+  if (map_.NumKeyframes() < 2) return;
+  stats_.global_ba_ms = AdjustWholeMap().time_ms;
 }
 
 std::vector<uint8_t> System::SeenIn(const std::vector<int>& ids, int target) {

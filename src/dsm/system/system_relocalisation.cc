@@ -153,7 +153,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     for (int attempt = 0; attempt < attempts; ++attempt) {
       const TrackResult r = tracker.Track(pyramid, guesses[ranked[attempt].second], alpha, beta);
       const SE3d step = r.frame_from_keyframe * kf.cam_from_world * last_from_world.Inverse();
-      std::string fail = quality_.CheckTracking(r, step, since, tracker.MeanIdepth());
+      std::string fail = quality_.CheckTracking(r, step, since, tracker.MeanIdepth(), k != ref);
       if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))
         sighted = Found{r, k, points, kf_pyramid, tracker.MeanIdepth()};
       if (fail.empty()) {

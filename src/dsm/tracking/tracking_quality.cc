@@ -32,6 +32,8 @@ void QualityOptions::Validate() const {
   if (!(min_keyframe_texture_step >= 0.0 && min_keyframe_texture_step <= 1.0))
     throw InputError("quality.min_keyframe_texture_step must be in [0, 1]");
   if (!(max_residual_ratio > 1.0)) throw InputError("quality.max_residual_ratio must be above 1");
+  if (!(max_relocalisation_residual_ratio >= max_residual_ratio))
+    throw InputError("quality.max_relocalisation_residual_ratio must be at least quality.max_residual_ratio");
   if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio < 1.0)) throw InputError("quality.min_inlier_ratio must be in [0, 1)");
   if (!(max_rotation_deg > 0.0 && max_rotation_deg <= 180.0)) throw InputError("quality.max_rotation_deg must be in (0, 180]");
   if (!(max_parallax > 0.0)) throw InputError("quality.max_parallax must be positive");
@@ -67,10 +69,12 @@ std::string TrackingQuality::CheckRelocalisationImage(double texture) const {
   return {};
 }
 
-std::string TrackingQuality::CheckTracking(const TrackResult& r, const SE3d& step, int frames, double mean_idepth) const {
+std::string TrackingQuality::CheckTracking(const TrackResult& r, const SE3d& step, int frames, double mean_idepth,
+                                           bool other_keyframe) const {
   if (!r.ok) return r.reason;
   const double level = ResidualLevel();
-  if (static_cast<int>(residual_.size()) >= options_.history && !(r.residual_p50 <= options_.max_residual_ratio * level))
+  const double ratio = other_keyframe ? options_.max_relocalisation_residual_ratio : options_.max_residual_ratio;
+  if (static_cast<int>(residual_.size()) >= options_.history && !(r.residual_p50 <= ratio * level))
     return Format("median residual %.1f, usual %.1f", r.residual_p50, level);
   if (r.inlier_ratio < options_.min_inlier_ratio)
     return Format("%.0f%% inliers (at least %.0f%%)", 100.0 * r.inlier_ratio, 100.0 * options_.min_inlier_ratio);

@@ -20,6 +20,13 @@
 //             parallax against the reference, |t| x mean inverse depth of its points, > max_parallax
 //             (keyframes come at 1/4; an alignment that ran off to infinity projects every point
 //             onto the epipole and leaves a small residual)
+//   relocalisation against a keyframe other than the one the camera was lost from: median
+//             |residual| > max_relocalisation_residual_ratio x the level instead. The level is
+//             measured against the newest keyframe, a few frames away; an older keyframe sees the
+//             place from further off and in other light (EuRoC after 15 frames of noise: correct
+//             poses, consistent over three frames, at 3.7-5.7x the level against keyframes 75
+//             frames back, wrong minima at 15-38x; a better map lowers the level and the
+//             correct ones failed 4x)
 //   relocalisation, besides: the camera moved from the last trusted pose by more than
 //             (frames) x (max_speed_ratio x its speed before + min_speed x mean depth), or its
 //             turn differs from the constant-velocity prediction by more than (frames) x
@@ -47,6 +54,7 @@ struct QualityOptions {
   double min_relocalisation_texture_ratio = 0.7;
   double min_keyframe_texture_step = 0.8;
   double max_residual_ratio = 4.0;
+  double max_relocalisation_residual_ratio = 6.0;
   double min_inlier_ratio = 0.5;
   double max_rotation_deg = 25.0;
   double max_parallax = 1.5;
@@ -70,7 +78,9 @@ class TrackingQuality {
   std::string CheckRelocalisationImage(double texture) const;
   // Empty when the tracked frame can be trusted, else why not. `step`: its motion from the last
   // trusted frame (frame_from_last), `frames` frames after it; `mean_idepth`: of the reference's points.
-  std::string CheckTracking(const TrackResult& result, const SE3d& step, int frames, double mean_idepth) const;
+  // `other_keyframe`: a relocalisation against a keyframe other than the last reference.
+  std::string CheckTracking(const TrackResult& result, const SE3d& step, int frames, double mean_idepth,
+                            bool other_keyframe = false) const;
   // Empty when a relocalised pose is within reach of the last trusted one: `step` from it (as in
   // CheckTracking), `frames` later; `velocity`: the camera's motion per frame before it was lost;
   // `mean_idepth`: of the reference's points.

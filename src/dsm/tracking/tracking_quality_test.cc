@@ -36,6 +36,9 @@ TEST(TrackingQuality, JudgesAgainstTheRunningLevels) {
   EXPECT_NE(q.CheckImage(std::nan("")), "");
   EXPECT_EQ(q.CheckTracking(Tracked(7.9), SE3d(), 1, 1.0), "");
   EXPECT_NE(q.CheckTracking(Tracked(8.1), SE3d(), 1, 1.0).find("median residual"), std::string::npos);
+  // Relocalised against another keyframe than the last reference: 6 x the level.
+  EXPECT_EQ(q.CheckTracking(Tracked(11.9), SE3d(), 1, 1.0, /*other_keyframe=*/true), "");
+  EXPECT_NE(q.CheckTracking(Tracked(12.1), SE3d(), 1, 1.0, true).find("median residual"), std::string::npos);
   EXPECT_NE(q.CheckTracking(Tracked(2.0, 0.4), SE3d(), 1, 1.0).find("inliers"), std::string::npos);
   TrackResult failed;
   failed.reason = "diverged";

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/system/options.h"
+
+#include <gtest/gtest.h>
+
+#include "dsm/util/check.h"
+
+namespace dsm {
+namespace {
+
+// The young map is bundle-adjusted whole at first, 2 first, 4 first, ... keyframes up to the last.
+TEST(SystemOptions, YoungMapBundleAdjustmentsDoubleUpToTheLast) {
+  SystemOptions options;
+  options.young_map_ba_first = 5;
+  options.young_map_ba_last = 40;
+  std::vector<int> due;
+  for (int n = 1; n <= 200; ++n)
+    if (options.YoungMapBaDue(n)) due.push_back(n);
+  EXPECT_EQ(due, (std::vector<int>{5, 10, 20, 40}));
+  options.young_map_ba_last = 39;
+  EXPECT_FALSE(options.YoungMapBaDue(40));
+  EXPECT_TRUE(options.YoungMapBaDue(20));
+  options.young_map_ba_last = 0;  // None.
+  for (int n = 1; n <= 200; ++n) EXPECT_FALSE(options.YoungMapBaDue(n)) << n;
+  // DSM-SW keeps no map beyond its window.
+  options.young_map_ba_last = 40;
+  options.mode = MapMode::kSlidingWindow;
+  EXPECT_FALSE(options.YoungMapBaDue(5));
+}
+
+TEST(SystemOptions, RejectsAYoungMapScheduleThatNeverGrows) {
+  SystemOptions options;
+  options.young_map_ba_first = 1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.young_map_ba_first = 5;
+  options.young_map_ba_last = -1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.young_map_ba_last = 0;
+  EXPECT_NO_THROW(options.Validate());
+}
+
+}  // namespace
+}  // namespace dsm
