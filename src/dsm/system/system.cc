@@ -341,7 +341,7 @@ TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double ex
   // Guesses of frame_from_reference: constant velocity first, then alternatives.
   const SE3d last = last_frame_from_reference_;
   const int gap = FramesSinceTrusted(index);
-  const SE3d step = gap == 1 ? velocity_ : Scale(velocity_, gap);  // Over the frames since the last.
+  const SE3d step = internal::ScaleSteps(velocity_, gap);  // Over the frames since the last.
   std::vector<SE3d> guesses = {step * last, last, step * step * last, Scale(step, 0.5) * last};
   for (double angle : {0.02, -0.02})
     for (int axis = 0; axis < 3; ++axis) guesses.push_back(internal::RotationAbout(axis, angle) * step * last);
@@ -369,7 +369,7 @@ int System::FramesSinceTrusted(int index) const {
 void System::CommitPose(int index, const TrackResult& result, double exposure, bool keep_velocity) {
   const int gap = FramesSinceTrusted(index);
   const SE3d step = result.frame_from_keyframe * last_frame_from_reference_.Inverse();
-  velocity_ = !keep_velocity ? SE3d() : gap == 1 ? step : Scale(step, 1.0 / gap);
+  velocity_ = keep_velocity ? internal::ScaleSteps(step, 1.0 / gap) : SE3d();
   last_trusted_index_ = index;
   last_frame_from_reference_ = result.frame_from_keyframe;
   last_alpha_ = result.alpha;

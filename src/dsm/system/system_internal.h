@@ -17,6 +17,9 @@ inline double MsSince(std::chrono::steady_clock::time_point t0) {
 // T^s on the geodesic from the identity.
 inline SE3d Scale(const SE3d& T, double s) { return SE3d::Exp(s * T.Log()); }
 
+// The same, but T itself, bit for bit, for s = 1 (the motion model over one frame step).
+inline SE3d ScaleSteps(const SE3d& T, double s) { return s == 1.0 ? T : Scale(T, s); }
+
 // A rotation by `angle` radians about camera axis `axis` (0: x, 1: y, 2: z), to turn a pose guess.
 inline SE3d RotationAbout(int axis, double angle) {
   Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
