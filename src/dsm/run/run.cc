@@ -169,6 +169,7 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     all.keyframe_waits += s.keyframe_waits;
     all.keyframe_wait_timeouts += s.keyframe_wait_timeouts;
     all.keyframe_retracks += s.keyframe_retracks;
+    all.brightness_holds += s.brightness_holds;
     all.pyramids_rebuilt += s.pyramids_rebuilt;
     all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);
   }
@@ -400,6 +401,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["keyframe_waits"] = s.keyframe_waits;
   summary.stats["keyframe_wait_timeouts"] = s.keyframe_wait_timeouts;
   summary.stats["keyframe_retracks"] = s.keyframe_retracks;
+  summary.stats["brightness_holds"] = s.brightness_holds;
   summary.stats["frames_posed_before_wait"] = posed_before_wait;
   summary.stats["pyramids_rebuilt"] = s.pyramids_rebuilt;
   summary.stats["pyramids_loaded_max"] = s.pyramids_loaded_max;

@@ -107,6 +107,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   TrackResult result;
   const auto track = [&] {
     result = TrackFrame(index, *pyramid, exposure);
+    if (result.brightness_held) ++stats_.brightness_holds;
     reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(),
                                     FramesSinceTrusted(index), tracker_->MeanIdepth());
   };
@@ -353,7 +354,7 @@ TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double ex
   if (ranked[1].first < 0.7 * ranked[0].first) std::swap(ranked[0], ranked[1]);
   TrackResult best;
   for (int attempt = 0; attempt < 3; ++attempt) {
-    const TrackResult r = tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, last_beta_);
+    const TrackResult r = tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, last_beta_, gap);
     if (r.ok && (!best.ok || r.rmse < best.rmse)) best = r;
     if (!best.ok && attempt == 0) best = r;
     // Other guesses only when this one failed or left a much larger residual than usual.

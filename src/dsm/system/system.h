@@ -106,6 +106,9 @@ struct SystemStats {
   int keyframe_wait_timeouts = 0;   // Of those, the ones that gave up at their deadline (wait_until).
   // Frames that failed against the keyframe before a pending one and were tracked again against it.
   int keyframe_retracks = 0;
+  // Trackings redone with the brightness held: the contrast changed more than exposure can
+  // (TrackerOptions::max_alpha_step).
+  int brightness_holds = 0;
   int pyramids_rebuilt = 0;         // Keyframe pyramids rebuilt after they were released (Map).
   int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };

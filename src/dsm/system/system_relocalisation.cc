@@ -151,7 +151,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     // The two guesses of lowest coarse energy are refined.
     const int attempts = std::min<int>(2, static_cast<int>(ranked.size()));
     for (int attempt = 0; attempt < attempts; ++attempt) {
-      const TrackResult r = tracker.Track(pyramid, guesses[ranked[attempt].second], alpha, beta);
+      const TrackResult r = tracker.Track(pyramid, guesses[ranked[attempt].second], alpha, beta, since);
       const SE3d step = r.frame_from_keyframe * kf.cam_from_world * last_from_world.Inverse();
       std::string fail = quality_.CheckTracking(r, step, since, tracker.MeanIdepth(), k != ref);
       if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))

@@ -136,7 +136,7 @@ void System::TrackInitFrames() {
     SE3d previous;  // The neighbour's frame_from_keyframe.
     for (int j = 0; j < n; ++j) {
       const int i = forward ? j : n - 1 - j;
-      std::optional<TrackResult> r = tracker.Track(*between[i].pyramid, step * previous, 0.0, 0.0);
+      std::optional<TrackResult> r = tracker.Track(*between[i].pyramid, step * previous, 0.0, 0.0, j + 1);
       if (!r->ok || stop(i, r)) break;
       step = r->frame_from_keyframe * previous.Inverse();
       previous = r->frame_from_keyframe;

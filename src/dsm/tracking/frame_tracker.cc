@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/tracking/frame_tracker.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -21,6 +22,7 @@ void TrackerOptions::Validate() const {
     if (it < 1) throw InputError("tracker.iterations must be positive");
   if (!(min_usage > 0 && min_usage < 1)) throw InputError("tracker.min_usage must be in (0, 1)");
   if (!(convergence_px > 0 && convergence_px < 1)) throw InputError("tracker.convergence_px must be in (0, 1)");
+  if (!(max_alpha_step > 0)) throw InputError("tracker.max_alpha_step must be positive");
   robust.Validate();
 }
 
@@ -221,7 +223,17 @@ double FrameTracker::CoarseEnergyOverAll(const ImagePyramid& frame, const SE3d& 
 }
 
 TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess,
-                                double beta_guess) const {
+                                double beta_guess, int frames) const {
+  TrackResult r = TrackOnce(frame, guess, alpha_guess, beta_guess, /*hold_brightness=*/false);
+  if (!r.ok || std::abs(r.alpha - alpha_guess) <= options_.max_alpha_step * std::max(frames, 1)) return r;
+  TrackResult held = TrackOnce(frame, guess, alpha_guess, beta_guess, /*hold_brightness=*/true);
+  held.brightness_held = true;
+  held.iterations += r.iterations;
+  return held;
+}
+
+TrackResult FrameTracker::TrackOnce(const ImagePyramid& frame, const SE3d& guess, double alpha_guess,
+                                    double beta_guess, bool hold_brightness) const {
   TrackResult result;
   result.frame_from_keyframe = guess;
   result.alpha = alpha_guess;
@@ -250,7 +262,12 @@ TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, do
       if (energy.valid < 10) break;
       Eigen::Matrix<double, 8, 8> H = sys.H;
       H.diagonal() *= (1.0 + lambda);
-      const Eigen::Matrix<double, 8, 1> delta = H.ldlt().solve(-sys.b);
+      Eigen::Matrix<double, 8, 1> delta = Eigen::Matrix<double, 8, 1>::Zero();
+      if (hold_brightness) {
+        delta.head<6>() = H.topLeftCorner<6, 6>().ldlt().solve(-sys.b.head<6>());
+      } else {
+        delta = H.ldlt().solve(-sys.b);
+      }
       if (!delta.allFinite()) break;
       const SE3d T_new = T * SE3d::Exp(delta.head<6>()).Inverse();
       const double alpha_new = alpha + delta(6), beta_new = beta + delta(7);
