@@ -9,8 +9,8 @@
 // pattern would cover several pixels of the finer levels anyway.
 // Inverse compositional Gauss–Newton/LM on the pose: the geometric Jacobian is taken on the
 // reference, J_k = -e^alpha grad I_r(u_k) J_pi(p_k) [I  -hat(p_k)], fixed per level; the update
-// is T <- T Exp(delta)^-1. (alpha, beta) are updated additively. Weights: gradient weight times
-// a Student-t fitted per level. Coarse to fine over the pyramid.
+// is T <- T Exp(delta)^-1. (alpha, beta) are updated additively (or held: see Track). Weights:
+// gradient weight times a Student-t fitted per level. Coarse to fine over the pyramid.
 //
 // The Jacobian of pixel k over (xi, alpha, beta) is J_k = -D g_k with the fixed
 //   g_k = (grad I_r J_pi [I -hat(p_k)], I_r(u_k), 1),   D = diag(e^alpha (x7), 1),
@@ -140,10 +140,10 @@ class FrameTracker {
   };
   void Evaluate(int level, const ImagePyramid& frame, const SE3d& T, double alpha, double beta, Residuals* out) const;
   Energy SumEnergy(int level, const Residuals& res, const ErrorModel& model) const;
-  // The energy of the coarsest level at one state, unoptimised (CoarseEnergy, CoarseEnergyOverAll).
   // One coarse-to-fine alignment; `hold_brightness`: the pose alone.
   TrackResult TrackOnce(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess,
                         bool hold_brightness) const;
+  // The energy of the coarsest level at one state, unoptimised (CoarseEnergy, CoarseEnergyOverAll).
   Energy CoarseSum(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta, const ErrorModel& model) const;
   System8 SumSystem(int level, const Residuals& res, const ErrorModel& model, double alpha) const;
 
