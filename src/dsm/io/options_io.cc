@@ -28,6 +28,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["system.smoothing_auto_sigma"] = Set(&o->smoothing_auto_sigma);
   s["system.young_map_ba_first"] = Set(&o->young_map_ba_first);
   s["system.young_map_ba_last"] = Set(&o->young_map_ba_last);
+  s["system.young_map_ba_step"] = Set(&o->young_map_ba_step);
   s["initializer.max_corners"] = Set(&o->initializer.max_corners);
   s["initializer.min_parallax_deg"] = Set(&o->initializer.min_parallax_deg);
   s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);
@@ -96,6 +97,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["pba.max_iterations"] = Set(&o->pba.max_iterations);
   s["pba.initial_lambda"] = Set(&o->pba.initial_lambda);
   s["pba.min_camera_observations"] = Set(&o->pba.min_camera_observations);
+  s["pba.min_link_ratio"] = Set(&o->pba.min_link_ratio);
   s["pba.max_outside_observations"] = Set(&o->pba.max_outside_observations);
   s["pba.max_outside_keyframes"] = Set(&o->pba.max_outside_keyframes);
   s["pba.outside_observations_per_point"] = Set(&o->pba.outside_observations_per_point);

@@ -73,6 +73,9 @@ struct Keyframe {
   ErrorModel error_model;  // Fitted to the residuals of the observations in this keyframe.
   FrameSignature signature;  // Texture and thumbnail (relocalisation candidates).
   std::vector<int> points; // Ids of the points it hosts.
+  // The most observations (hosted or observed) that tied its pose in a bundle adjustment that
+  // moved it (pba_selection.h: a later solve with far fewer holds it).
+  int most_pba_links = 0;
 
   const ImagePyramid& Pyramid() const {
     DSM_CHECK(pyramid != nullptr, "keyframe pyramid used without Map::LoadPyramids");

@@ -23,6 +23,7 @@ void PbaOptions::Validate() const {
   if (max_outside_keyframes < 0) throw InputError("pba.max_outside_keyframes must be non-negative");
   if (outside_observations_per_point < 0) throw InputError("pba.outside_observations_per_point must be non-negative");
   if (min_camera_observations < 0) throw InputError("pba.min_camera_observations must be non-negative");
+  if (!(min_link_ratio >= 0 && min_link_ratio <= 1)) throw InputError("pba.min_link_ratio must be within 0..1");
   if (!(max_sigma_ratio == 0 || max_sigma_ratio >= 1)) throw InputError("pba.max_sigma_ratio must be 0 or at least 1");
   if (!(drop_outlier_ratio > 0 && drop_outlier_ratio <= skip_outlier_ratio && skip_outlier_ratio <= 1))
     throw InputError("pba outlier ratios must satisfy 0 < drop <= skip <= 1");
@@ -84,6 +85,10 @@ class Problem {
           const PbaOptions& options)
       : map_(map), camera_(camera), options_(options) {
     PbaSelection selection = SelectPbaProblem(*map, active, held, options);
+    for (const auto& [c, links] : selection.links_free) {
+      Keyframe& k = map->keyframe(selection.cams[c]);
+      k.most_pba_links = std::max(k.most_pba_links, links);
+    }
     cams_ = std::move(selection.cams);
     fixed_ = std::move(selection.fixed);
     num_obs_ = selection.num_observations;

@@ -37,6 +37,9 @@ struct PbaOptions {
   int max_iterations = 12;     // Per level (6 costs accuracy on the synthetic corridor, 30 buys nothing).
   double initial_lambda = 1e-4;
   int min_camera_observations = 50;  // An active keyframe in fewer observations stays fixed.
+  // So does one in fewer than this share of the most observations that tied it in an earlier
+  // solve that moved it (Keyframe::most_pba_links; 0: never).
+  double min_link_ratio = 0.1;
   int max_outside_observations = 3;  // Per point of a held keyframe: the newest ones outside the window.
   // Keyframes outside the window in the problem (fixed): the most observed ones; 0: all.
   int max_outside_keyframes = 0;

@@ -82,8 +82,14 @@ PbaSelection SelectPbaProblem(const Map& map, const std::vector<int>& active, co
     links[po.host] += static_cast<int>(po.targets.size());
     for (int t : po.targets) ++links[t];
   }
-  for (size_t c = 0; c < s.cams.size(); ++c)
-    if (links[c] < options.min_camera_observations) s.fixed[c] = true;
+  // So is one tied by far fewer than placed it before: the observations that did are not in
+  // this problem (a keyframe that hosts almost no points, placed by the old map's points, keeps
+  // a window slot after those points left the window), and the few left can only pull it away.
+  for (size_t c = 0; c < s.cams.size(); ++c) {
+    const double placed = map.keyframe(s.cams[c]).most_pba_links;
+    if (links[c] < options.min_camera_observations || links[c] < options.min_link_ratio * placed) s.fixed[c] = true;
+    if (!s.fixed[c]) s.links_free.push_back({static_cast<int>(c), links[c]});
+  }
   return s;
 }
 

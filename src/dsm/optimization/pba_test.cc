@@ -139,6 +139,38 @@ TEST(Pba, AKeyframeInFewObservationsStaysFixed) {
   EXPECT_EQ(w.map.keyframe(3).cam_from_world.Matrix(), before.Matrix());
 }
 
+TEST(Pba, AKeyframeTiedByFarFewerObservationsThanPlacedItStaysFixed) {
+  // Keyframe 3 is placed by a solve with all its observations; later it keeps 60 (above
+  // min_camera_observations) of them, its own points and the rest gone from the problem.
+  const auto strip = [](World* w) {
+    int kept = 0;
+    for (int i = 0; i < w->map.NumPoints(); ++i)
+      for (Observation& o : w->map.point(i).observations)
+        if (w->map.point(i).host == 3 || (o.target == 3 && kept++ >= 60)) o.outlier = true;
+  };
+  for (const double ratio : {0.1, 0.0}) {
+    World w;
+    BuildWorld({0, 6, 12, 18}, &w);
+    PbaOptions options;
+    options.min_link_ratio = ratio;
+    RunPba(&w.map, w.seq.camera, {0, 1, 2, 3}, options);
+    const int placed = w.map.keyframe(3).most_pba_links;
+    EXPECT_GT(placed, 1000);
+    strip(&w);
+    Perturb(&w);
+    const SE3d before = w.map.keyframe(3).cam_from_world;
+    const PbaSummary s = RunPba(&w.map, w.seq.camera, {0, 1, 2, 3}, options);
+    EXPECT_EQ(w.map.keyframe(3).most_pba_links, placed);  // Not raised by a solve that held it.
+    if (ratio > 0) {
+      EXPECT_EQ(s.fixed_keyframes, 2);
+      EXPECT_EQ(w.map.keyframe(3).cam_from_world.Matrix(), before.Matrix());
+    } else {
+      EXPECT_EQ(s.fixed_keyframes, 1);
+      EXPECT_NE(w.map.keyframe(3).cam_from_world.Matrix(), before.Matrix());
+    }
+  }
+}
+
 // One pattern pixel of an observation for Ceres: parameters are increments on the starting state
 // (pose: left increment of cam_from_world, then a and b); numeric derivatives through the same
 // residual function. The gradient weight is held at its value at the PBA's solution (the PBA

@@ -21,6 +21,8 @@ void RelocalisationOptions::Validate() const {
 
 bool SystemOptions::YoungMapBaDue(int keyframes) const {
   if (mode != MapMode::kFull || keyframes > young_map_ba_last) return false;
+  if (keyframes < young_map_ba_first) return false;
+  if (young_map_ba_step > 0) return (keyframes - young_map_ba_first) % young_map_ba_step == 0;
   for (int n = young_map_ba_first; n <= keyframes; n *= 2)
     if (n == keyframes) return true;
   return false;
@@ -36,6 +38,7 @@ void SystemOptions::Validate() const {
     throw InputError("system.smoothing_auto_sigma must be within 0..3");
   if (young_map_ba_first < 2) throw InputError("system.young_map_ba_first must be at least 2");
   if (young_map_ba_last < 0) throw InputError("system.young_map_ba_last must be non-negative (0: none)");
+  if (young_map_ba_step < 0) throw InputError("system.young_map_ba_step must be non-negative (0: doubling)");
   if (tracker.levels > pyramid_levels) throw InputError("tracker.levels cannot exceed pyramid_levels");
   if (pba.levels > pyramid_levels) throw InputError("pba.levels cannot exceed pyramid_levels");
   initializer.Validate();

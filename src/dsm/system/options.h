@@ -78,6 +78,7 @@ struct SystemOptions {
   // making fewer keyframes, runs only the first two (README, The young map).
   int young_map_ba_first = 10;
   int young_map_ba_last = 0;
+  int young_map_ba_step = 0;  // > 0: every this many keyframes from young_map_ba_first instead of doubling.
   InitializerOptions initializer;
   TrackerOptions tracker;
   CandidateSelectorOptions candidates;

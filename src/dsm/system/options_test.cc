@@ -28,6 +28,23 @@ TEST(SystemOptions, YoungMapBundleAdjustmentsDoubleUpToTheLast) {
   EXPECT_FALSE(options.YoungMapBaDue(5));
 }
 
+// With a step, every step keyframes from the first up to the last.
+TEST(SystemOptions, YoungMapBundleAdjustmentsInStepsUpToTheLast) {
+  SystemOptions options;
+  options.young_map_ba_first = 10;
+  options.young_map_ba_step = 10;
+  options.young_map_ba_last = 50;
+  std::vector<int> due;
+  for (int n = 1; n <= 200; ++n)
+    if (options.YoungMapBaDue(n)) due.push_back(n);
+  EXPECT_EQ(due, (std::vector<int>{10, 20, 30, 40, 50}));
+  options.young_map_ba_step = 7;
+  due.clear();
+  for (int n = 1; n <= 200; ++n)
+    if (options.YoungMapBaDue(n)) due.push_back(n);
+  EXPECT_EQ(due, (std::vector<int>{10, 17, 24, 31, 38, 45}));
+}
+
 TEST(SystemOptions, RejectsAYoungMapScheduleThatNeverGrows) {
   SystemOptions options;
   options.young_map_ba_first = 1;
@@ -37,6 +54,8 @@ TEST(SystemOptions, RejectsAYoungMapScheduleThatNeverGrows) {
   EXPECT_THROW(options.Validate(), InputError);
   options.young_map_ba_last = 0;
   EXPECT_NO_THROW(options.Validate());
+  options.young_map_ba_step = -1;
+  EXPECT_THROW(options.Validate(), InputError);
 }
 
 }  // namespace
