@@ -39,7 +39,7 @@ struct PbaOptions {
   int min_camera_observations = 50;  // An active keyframe in fewer observations stays fixed.
   // So does one in fewer than this share of the most observations that tied it in an earlier
   // solve that moved it (Keyframe::most_pba_links; 0: never).
-  double min_link_ratio = 0.1;
+  double min_link_ratio = 0.3;
   int max_outside_observations = 3;  // Per point of a held keyframe: the newest ones outside the window.
   // Keyframes outside the window in the problem (fixed): the most observed ones; 0: all.
   int max_outside_keyframes = 0;

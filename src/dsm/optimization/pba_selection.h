@@ -6,10 +6,11 @@
 // observed in (fixed; at most `max_outside_keyframes`, the most observed). Fixed as well: keyframe
 // 0 (the gauge), the `held` ones, and any camera in fewer than `min_camera_observations`
 // observations (hosted or observed), which the data barely constrain, or in fewer than
-// `min_link_ratio` times the most that tied it in an earlier solve that moved it. A point of a held keyframe
-// keeps its observations in active keyframes and the newest `max_outside_observations` outside
-// them (they join two fixed poses and constrain only its depth); a point of another active
-// keyframe keeps the newest `outside_observations_per_point` outside ones (0: all).
+// `min_link_ratio` times the most that tied it in an earlier solve that left it free
+// (Keyframe::most_pba_links, which RunPba raises for the free cameras). A point of a held
+// keyframe keeps its observations in active keyframes and the newest `max_outside_observations`
+// outside them (they join two fixed poses and constrain only its depth); a point of another
+// active keyframe keeps the newest `outside_observations_per_point` outside ones (0: all).
 #pragma once
 
 #include <utility>

@@ -148,7 +148,7 @@ TEST(Pba, AKeyframeTiedByFarFewerObservationsThanPlacedItStaysFixed) {
       for (Observation& o : w->map.point(i).observations)
         if (w->map.point(i).host == 3 || (o.target == 3 && kept++ >= 60)) o.outlier = true;
   };
-  for (const double ratio : {0.1, 0.0}) {
+  for (const double ratio : {PbaOptions{}.min_link_ratio, 0.0}) {
     World w;
     BuildWorld({0, 6, 12, 18}, &w);
     PbaOptions options;
