@@ -85,9 +85,9 @@ class Problem {
           const PbaOptions& options)
       : map_(map), camera_(camera), options_(options) {
     PbaSelection selection = SelectPbaProblem(*map, active, held, options);
-    for (const auto& [c, links] : selection.links_free) {
+    for (size_t c = 0; c < selection.cams.size(); ++c) {
       Keyframe& k = map->keyframe(selection.cams[c]);
-      k.most_pba_links = std::max(k.most_pba_links, links);
+      if (!selection.fixed[c]) k.most_pba_links = std::max(k.most_pba_links, selection.links[c]);
     }
     cams_ = std::move(selection.cams);
     fixed_ = std::move(selection.fixed);

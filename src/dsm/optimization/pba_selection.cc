@@ -2,6 +2,7 @@
 #include "dsm/optimization/pba_selection.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace dsm {
 
@@ -88,8 +89,8 @@ PbaSelection SelectPbaProblem(const Map& map, const std::vector<int>& active, co
   for (size_t c = 0; c < s.cams.size(); ++c) {
     const double placed = map.keyframe(s.cams[c]).most_pba_links;
     if (links[c] < options.min_camera_observations || links[c] < options.min_link_ratio * placed) s.fixed[c] = true;
-    if (!s.fixed[c]) s.links_free.push_back({static_cast<int>(c), links[c]});
   }
+  s.links = std::move(links);
   return s;
 }
 

@@ -7,13 +7,12 @@
 // 0 (the gauge), the `held` ones, and any camera in fewer than `min_camera_observations`
 // observations (hosted or observed), which the data barely constrain, or in fewer than
 // `min_link_ratio` times the most that tied it in an earlier solve that left it free
-// (Keyframe::most_pba_links, which RunPba raises for the free cameras). A point of a held
+// (Keyframe::most_pba_links, which RunPba raises to `links` for the free cameras). A point of a held
 // keyframe keeps its observations in active keyframes and the newest `max_outside_observations`
 // outside them (they join two fixed poses and constrain only its depth); a point of another
 // active keyframe keeps the newest `outside_observations_per_point` outside ones (0: all).
 #pragma once
 
-#include <utility>
 #include <vector>
 
 #include "dsm/map/map.h"
@@ -31,7 +30,7 @@ struct PbaSelection {
   };
   std::vector<PointObservations> points;  // Only points with at least one observation.
   int num_observations = 0;
-  std::vector<std::pair<int, int>> links_free;  // (camera index, observations) of each free camera.
+  std::vector<int> links;  // Per camera: the observations (hosted or observed) that tie it.
 };
 
 PbaSelection SelectPbaProblem(const Map& map, const std::vector<int>& active, const std::vector<int>& held,

@@ -20,8 +20,7 @@ void RelocalisationOptions::Validate() const {
 }
 
 bool SystemOptions::YoungMapBaDue(int keyframes) const {
-  if (mode != MapMode::kFull || keyframes > young_map_ba_last) return false;
-  if (keyframes < young_map_ba_first) return false;
+  if (mode != MapMode::kFull || keyframes < young_map_ba_first || keyframes > young_map_ba_last) return false;
   if (young_map_ba_step > 0) return (keyframes - young_map_ba_first) % young_map_ba_step == 0;
   for (int n = young_map_ba_first; n <= keyframes; n *= 2)
     if (n == keyframes) return true;

@@ -8,20 +8,25 @@
 namespace dsm {
 namespace {
 
+// The map sizes (1..200 keyframes) at which the young map is bundle-adjusted.
+std::vector<int> DueKeyframes(const SystemOptions& options) {
+  std::vector<int> due;
+  for (int n = 1; n <= 200; ++n)
+    if (options.YoungMapBaDue(n)) due.push_back(n);
+  return due;
+}
+
 // The young map is bundle-adjusted whole at first, 2 first, 4 first, ... keyframes up to the last.
 TEST(SystemOptions, YoungMapBundleAdjustmentsDoubleUpToTheLast) {
   SystemOptions options;
   options.young_map_ba_first = 5;
   options.young_map_ba_last = 40;
-  std::vector<int> due;
-  for (int n = 1; n <= 200; ++n)
-    if (options.YoungMapBaDue(n)) due.push_back(n);
-  EXPECT_EQ(due, (std::vector<int>{5, 10, 20, 40}));
+  EXPECT_EQ(DueKeyframes(options), (std::vector<int>{5, 10, 20, 40}));
   options.young_map_ba_last = 39;
   EXPECT_FALSE(options.YoungMapBaDue(40));
   EXPECT_TRUE(options.YoungMapBaDue(20));
   options.young_map_ba_last = 0;  // None.
-  for (int n = 1; n <= 200; ++n) EXPECT_FALSE(options.YoungMapBaDue(n)) << n;
+  EXPECT_TRUE(DueKeyframes(options).empty());
   // DSM-SW keeps no map beyond its window.
   options.young_map_ba_last = 40;
   options.mode = MapMode::kSlidingWindow;
@@ -34,15 +39,9 @@ TEST(SystemOptions, YoungMapBundleAdjustmentsInStepsUpToTheLast) {
   options.young_map_ba_first = 10;
   options.young_map_ba_step = 10;
   options.young_map_ba_last = 50;
-  std::vector<int> due;
-  for (int n = 1; n <= 200; ++n)
-    if (options.YoungMapBaDue(n)) due.push_back(n);
-  EXPECT_EQ(due, (std::vector<int>{10, 20, 30, 40, 50}));
+  EXPECT_EQ(DueKeyframes(options), (std::vector<int>{10, 20, 30, 40, 50}));
   options.young_map_ba_step = 7;
-  due.clear();
-  for (int n = 1; n <= 200; ++n)
-    if (options.YoungMapBaDue(n)) due.push_back(n);
-  EXPECT_EQ(due, (std::vector<int>{10, 17, 24, 31, 38, 45}));
+  EXPECT_EQ(DueKeyframes(options), (std::vector<int>{10, 17, 24, 31, 38, 45}));
 }
 
 TEST(SystemOptions, RejectsAYoungMapScheduleThatNeverGrows) {
