@@ -105,6 +105,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   previous_texture_ = signature.texture;
   std::string reason = quality_.CheckImage(signature.texture);
   TrackResult result;
+  SE3d relocalised_velocity;
   const auto track = [&] {
     result = TrackFrame(index, *pyramid, exposure);
     if (result.brightness_held) ++stats_.brightness_holds;
@@ -174,7 +175,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     reason = quality_.CheckRelocalisationImage(signature.texture);
     if (reason.empty()) {
       Tentative before = SaveTentative(index);
-      report.relocalised = Relocalise(index, *pyramid, signature, exposure, &result, &reason);
+      report.relocalised = Relocalise(index, *pyramid, signature, exposure, &result, &relocalised_velocity, &reason);
       if (report.relocalised) tentative_ = std::move(before);
     }
     if (!report.relocalised) ++failed_relocalisations_;
@@ -189,7 +190,9 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   }
   lost_ = false;
   lost_in_a_row_ = failed_relocalisations_ = 0;
-  CommitPose(index, result, exposure, /*keep_velocity=*/!report.relocalised);
+  // A relocalised frame's reference is another keyframe than the last trusted frame's: its
+  // velocity comes from Relocalise.
+  CommitPose(index, result, exposure, report.relocalised ? std::optional<SE3d>(relocalised_velocity) : std::nullopt);
   if (report.relocalised) {
     quality_.Restart(result.residual_p50, signature.texture);
   } else {
@@ -367,10 +370,10 @@ int System::FramesSinceTrusted(int index) const {
   return last_trusted_index_ >= 0 ? std::max(1, index - last_trusted_index_) : 1;
 }
 
-void System::CommitPose(int index, const TrackResult& result, double exposure, bool keep_velocity) {
+void System::CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity) {
   const int gap = FramesSinceTrusted(index);
   const SE3d step = result.frame_from_keyframe * last_frame_from_reference_.Inverse();
-  velocity_ = keep_velocity ? internal::ScaleSteps(step, 1.0 / gap) : SE3d();
+  velocity_ = velocity ? *velocity : internal::ScaleSteps(step, 1.0 / gap);
   last_trusted_index_ = index;
   last_frame_from_reference_ = result.frame_from_keyframe;
   last_alpha_ = result.alpha;

@@ -230,17 +230,19 @@ class System {
   // world_from_cam of a frame at `frame_from_reference` from the tracking reference.
   SE3d WorldFromCam(const SE3d& frame_from_reference) const;
   TrackResult TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const;
-  // The frame's pose and brightness relative to the reference become the last trusted ones.
-  void CommitPose(int index, const TrackResult& result, double exposure, bool keep_velocity);
+  // The frame's pose and brightness relative to the reference become the last trusted ones; the
+  // velocity is the step from the last trusted frame per frame, or `velocity` when given.
+  void CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity = std::nullopt);
   // Frame indices from the last trusted frame to `index` (at least 1).
   int FramesSinceTrusted(int index) const;
   // A lost frame: counted, its episode opened or extended.
   FrameReport LostFrame(FrameReport report, int64_t t_ns, std::string reason);
   // While lost (system_relocalisation.cc): aligns the frame with the reference and the keyframes most
   // like it, from the last trusted pose; on success the keyframe it passed the quality test against
-  // becomes the reference and `result` holds the frame's pose relative to it. `reason`: why not.
+  // becomes the reference and `result` holds the frame's pose relative to it, `velocity` the
+  // camera's motion per frame through the loss (cam_now_from_cam_before). `reason`: why not.
   bool Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
-                  TrackResult* result, std::string* reason);
+                  TrackResult* result, SE3d* velocity, std::string* reason);
   // A lost frame's best alignment with the map that passed the quality test (camera in the world).
   struct Sighting {
     int index = -1;

@@ -72,7 +72,7 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
 }
 
 bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
-                        TrackResult* result, std::string* reason) {
+                        TrackResult* result, SE3d* velocity, std::string* reason) {
   // The map is read below: the mapping side must be idle (nothing is handed to it while lost).
   if (mapping_thread_) mapping_thread_->WaitUntilIdle();
   UpdateReference(false);
@@ -168,9 +168,20 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
         best = Found{r, k, points, kf_pyramid, tracker.MeanIdepth()};
     }
   }
+  // The camera's motion per frame through the loss: from the last trusted frame (a pose within
+  // reach of the prediction), or from the sighting before (three sightings that move as one
+  // camera). The next frame is tracked from there: a frame after a few dropped or lost ones is
+  // no longer where the relocalised one was, and from that guess the alignment can end in a
+  // wrong minimum (a near occluder's parallax) that the residual level just restarted lets pass.
+  const auto cam_from_world = [&](const Found& f) {
+    return f.result.frame_from_keyframe * map_.keyframe(f.keyframe).cam_from_world;
+  };
+  if (best) *velocity = internal::ScaleSteps(cam_from_world(*best) * last_from_world.Inverse(), 1.0 / since);
   if (!best && sighted) {
-    const Sighting now{index, sighted->result.frame_from_keyframe * map_.keyframe(sighted->keyframe).cam_from_world};
+    const Sighting now{index, cam_from_world(*sighted)};
     if (MovesAsOneCamera(now, sighted->mean_idepth)) {
+      const Sighting& before = sightings_.back();
+      *velocity = internal::ScaleSteps(now.cam_from_world * before.cam_from_world.Inverse(), 1.0 / (index - before.index));
       best = std::move(sighted);
     } else {
       sightings_.push_back(now);
