@@ -47,6 +47,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["tracker.convergence_px"] = Set(&o->tracker.convergence_px);
   s["tracker.verified_reference"] = Set(&o->tracker.verified_reference);
   s["tracker.max_alpha_step"] = Set(&o->tracker.max_alpha_step);
+  s["tracker.max_alpha_frames"] = Set(&o->tracker.max_alpha_frames);
   s["candidates.target_count"] = Set(&o->candidates.target_count);
   s["candidates.threshold_margin"] = Set(&o->candidates.threshold_margin);
   s["candidates.noise_factor"] = Set(&o->candidates.noise_factor);

@@ -111,6 +111,11 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     if (result.brightness_held) ++stats_.brightness_holds;
     reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(),
                                     FramesSinceTrusted(index), tracker_->MeanIdepth());
+    // A relocalisation is confirmed by an alignment that found its own way, not by one that fell
+    // into the flat prediction and was done again with the brightness held: its pose passes a
+    // residual level the relocalisation has just restarted at its own value. It is withdrawn
+    // instead, and the frame is tried against the map in turn.
+    if (reason.empty() && tentative_ && result.brightness_held) reason = "brightness held right after a relocalisation";
   };
   // Waits for the keyframes being mapped (until `until`, or for good), then takes the newest
   // reference; the wait is left out of the tracking time. True when the reference changed.

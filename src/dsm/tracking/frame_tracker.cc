@@ -23,6 +23,7 @@ void TrackerOptions::Validate() const {
   if (!(min_usage > 0 && min_usage < 1)) throw InputError("tracker.min_usage must be in (0, 1)");
   if (!(convergence_px > 0 && convergence_px < 1)) throw InputError("tracker.convergence_px must be in (0, 1)");
   if (!(max_alpha_step > 0)) throw InputError("tracker.max_alpha_step must be positive");
+  if (max_alpha_frames < 1) throw InputError("tracker.max_alpha_frames must be at least 1");
   robust.Validate();
 }
 
@@ -225,7 +226,8 @@ double FrameTracker::CoarseEnergyOverAll(const ImagePyramid& frame, const SE3d& 
 TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess,
                                 double beta_guess, int frames) const {
   TrackResult r = TrackOnce(frame, guess, alpha_guess, beta_guess, /*hold_brightness=*/false);
-  if (!r.ok || std::abs(r.alpha - alpha_guess) <= options_.max_alpha_step * std::max(frames, 1)) return r;
+  const int steps = std::clamp(frames, 1, options_.max_alpha_frames);
+  if (!r.ok || std::abs(r.alpha - alpha_guess) <= options_.max_alpha_step * steps) return r;
   TrackResult held = TrackOnce(frame, guess, alpha_guess, beta_guess, /*hold_brightness=*/true);
   held.brightness_held = true;
   held.iterations += r.iterations;

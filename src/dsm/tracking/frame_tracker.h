@@ -53,6 +53,10 @@ struct TrackerOptions {
   // Track). Exposure changes between frames move it by < 0.1 once the exposure times are
   // accounted for (shared EuRoC frames: 0.08 after the start, the path-traced room 0.012).
   double max_alpha_step = 0.4;
+  // Frames of that change at most, however many frames apart the guess is: a few dropped or
+  // lost frames are no time for the contrast to halve, but they were enough for the flat
+  // prediction's alpha (-1 ... -2.8) to pass at 0.4 per frame.
+  int max_alpha_frames = 2;
 
   // The t-fit runs at every level of every frame: a smaller sample than the PBA's.
   static RobustOptions TrackerRobustDefaults() {
@@ -97,7 +101,8 @@ class FrameTracker {
 
   // Tracks `frame` starting at the guess (pose and brightness relative to the reference), made
   // `frames` frames after the one the guess comes from. A result whose contrast moved from the
-  // guess by more than options.max_alpha_step per frame is no exposure change: the alignment
+  // guess by more than options.max_alpha_step per frame (over at most max_alpha_frames frames)
+  // is no exposure change: the alignment
   // traded contrast for fit (under heavy-tailed weights a flat prediction, e^alpha -> 0 and beta
   // -> the mean intensity, fits an image the points do not match yet, and holds the pose there).
   // The pose is then tracked again with (alpha, beta) held at the guess (brightness_held).

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "dsm/synth/renderer.h"
+#include "dsm/util/check.h"
 
 namespace dsm {
 namespace {
@@ -33,8 +34,9 @@ std::vector<ReferencePoint> GradientPoints(const Rendered& r) {
   return points;
 }
 
+// `frames`: how many frames the guess (the identity) is taken to be from the frame.
 TrackResult ExpectTracks(const std::string& scene, int ref, int cur, double max_trans_m, double max_rot_deg,
-                         double min_usage = 0.8) {
+                         double min_usage = 0.8, int frames = 1) {
   synth::SynthOptions options;
   options.scene = scene;
   options.width = 320;
@@ -45,7 +47,7 @@ TrackResult ExpectTracks(const std::string& scene, int ref, int cur, double max_
   tracker.SetReference(&a.pyramid, seq.camera, GradientPoints(a));
   EXPECT_GT(tracker.NumReferencePoints(), 300);
   const SE3d truth = seq.world_from_cam[cur].Inverse() * seq.world_from_cam[ref];
-  const TrackResult r = tracker.Track(b.pyramid, SE3d(), 0.0, 0.0);  // from the identity
+  const TrackResult r = tracker.Track(b.pyramid, SE3d(), 0.0, 0.0, frames);  // from the identity
   EXPECT_TRUE(r.ok) << r.reason;
   const SE3d err = r.frame_from_keyframe * truth.Inverse();
   EXPECT_LT(err.Translation().norm(), max_trans_m) << scene << " true offset " << truth.Translation().norm();
@@ -80,6 +82,20 @@ TEST(FrameTracker, HoldsTheBrightnessWhenTheContrastCollapses) {
     EXPECT_EQ(r.alpha, 0.0);
     EXPECT_EQ(r.beta, 0.0);
   }
+}
+
+// The same pair with the guess six frames old, as after dropped or lost frames: 0.4 per frame
+// over six frames (2.4) let the flat prediction's alpha (-1.05) pass; the allowance stops at
+// max_alpha_frames (2) frames' worth.
+TEST(FrameTracker, HoldsTheBrightnessWhenTheContrastCollapsesAfterAGap) {
+  const TrackResult r = ExpectTracks("orbit", 20, 26, 0.003, 0.1, /*min_usage=*/0.7, /*frames=*/6);
+  EXPECT_TRUE(r.brightness_held);
+}
+
+TEST(FrameTracker, RejectsAnAlphaAllowanceOfNoFrames) {
+  TrackerOptions options;
+  options.max_alpha_frames = 0;
+  EXPECT_THROW(FrameTracker{options}, InputError);
 }
 
 }  // namespace
