@@ -232,7 +232,7 @@ class System {
   TrackResult TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const;
   // The frame's pose and brightness relative to the reference become the last trusted ones; the
   // velocity is the step from the last trusted frame per frame, or `velocity` when given.
-  void CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity = std::nullopt);
+  void CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity);
   // Frame indices from the last trusted frame to `index` (at least 1).
   int FramesSinceTrusted(int index) const;
   // A lost frame: counted, its episode opened or extended.

@@ -102,9 +102,9 @@ class FrameTracker {
   // Tracks `frame` starting at the guess (pose and brightness relative to the reference), made
   // `frames` frames after the one the guess comes from. A result whose contrast moved from the
   // guess by more than options.max_alpha_step per frame (over at most max_alpha_frames frames)
-  // is no exposure change: the alignment
-  // traded contrast for fit (under heavy-tailed weights a flat prediction, e^alpha -> 0 and beta
-  // -> the mean intensity, fits an image the points do not match yet, and holds the pose there).
+  // is no exposure change: the alignment traded contrast for fit (under heavy-tailed weights a
+  // flat prediction, e^alpha -> 0 and beta -> the mean intensity, fits an image the points do not
+  // match yet, and holds the pose there).
   // The pose is then tracked again with (alpha, beta) held at the guess (brightness_held).
   TrackResult Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess,
                     int frames = 1) const;
