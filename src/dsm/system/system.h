@@ -264,8 +264,6 @@ class System {
   };
   Tentative SaveTentative(int index) const;
   void WithdrawRelocalisation();
-  // ORB features of keyframe kf (keyframe_features_, computed on first use).
-  const OrbFeatures& KeyframeFeatures(int kf);
   // Points observed in keyframe kf (hosted, or an inlier observation), for tracking against it.
   std::vector<ReferencePoint> PointsSeenIn(int kf);
   // Tracking side: takes the newest published reference (waiting for the pending keyframe first
@@ -369,7 +367,7 @@ class System {
   std::optional<Tentative> tentative_;  // Set from a relocalisation until the next frame confirms it.
   std::deque<Sighting> sightings_;      // Of the last lost frames (at most two), oldest first.
   bool wait_after_relocalisation_ = false;  // The next frame waits for the confirming keyframe.
-  // ORB features of the keyframes relocalisation tried, computed on first use.
+  // ORB features of the keyframes relocalisation ranked, computed on first use.
   std::map<int, OrbFeatures> keyframe_features_;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.
 };

@@ -14,9 +14,13 @@
 //   the camera's x and y axes,
 // and for K other than the reference K's own pose. The coarse energy ranks them; the best two are
 // aligned coarse to fine over the whole pyramid (the frame may be far from every keyframe), and
-// the passing result with the smallest median residual wins.
+// the passing result with the smallest median residual wins. The features (each keyframe's
+// computed once, kept in keyframe_features_), their matches and the candidates' alignments run
+// in parallel on both cores: the mapping side waits while the camera is lost.
 #include <algorithm>
 #include <optional>
+
+#include <tbb/parallel_for.h>
 
 #include "dsm/image/signature.h"
 #include "dsm/system/mapping_thread.h"
@@ -25,13 +29,6 @@
 #include "dsm/tracking/feature_pose.h"
 
 namespace dsm {
-
-const OrbFeatures& System::KeyframeFeatures(int kf) {
-  auto it = keyframe_features_.find(kf);
-  if (it != keyframe_features_.end()) return it->second;
-  const Keyframe& k = map_.keyframe(kf);
-  return keyframe_features_.emplace(kf, DetectOrbFeatures(k.Level0(), {})).first->second;
-}
 
 void System::AdoptReference(std::shared_ptr<const TrackingReference> ref) {
   {
@@ -93,48 +90,64 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     ++tracker_options.levels;
   }
 
-  const OrbFeatures frame_features = DetectOrbFeatures(pyramid, {});
   // Candidates: the reference, then the keyframes with the most feature matches among the
   // kPool most alike by thumbnail (a thumbnail alone ranks poorly after a large change of view).
+  // The mapping side is idle, so the features, their matches and the candidates' alignments run
+  // in parallel (a lost live camera drops its frames meanwhile); each result goes to its own slot
+  // and they are weighed in order below, so the outcome is that of a sequential loop.
   constexpr int kPool = 12;
   std::vector<std::pair<double, int>> similar;
   for (int k = 0; k < map_.NumKeyframes(); ++k)
     if (k != ref) similar.emplace_back(-Similarity(signature, map_.keyframe(k).signature), k);
   const int pool = std::min<int>(kPool, static_cast<int>(similar.size()));
   std::partial_sort(similar.begin(), similar.begin() + pool, similar.end());
-  std::vector<std::pair<int, int>> matched;  // (-matches, keyframe)
-  for (int i = 0; i < pool; ++i) {
-    const int k = similar[i].second;
-    matched.emplace_back(-CountFeatureMatches(frame_features, KeyframeFeatures(k), {}), k);
+  std::vector<int> unknown;  // Keyframes of the pool and the reference without features yet.
+  for (int i = 0; i <= pool; ++i) {
+    const int k = i < pool ? similar[i].second : ref;
+    if (!keyframe_features_.count(k)) unknown.push_back(k);
   }
+  OrbFeatures frame_features;
+  std::vector<OrbFeatures> detected(unknown.size());
+  tbb::parallel_for(size_t{0}, unknown.size() + 1, [&](size_t i) {
+    if (i == unknown.size())
+      frame_features = DetectOrbFeatures(pyramid, {});
+    else
+      detected[i] = DetectOrbFeatures(map_.keyframe(unknown[i]).Level0(), {});
+  });
+  for (size_t i = 0; i < unknown.size(); ++i) keyframe_features_.emplace(unknown[i], std::move(detected[i]));
+  std::vector<std::pair<int, int>> matched(pool);  // (-matches, keyframe)
+  tbb::parallel_for(0, pool, [&](int i) {
+    const int k = similar[i].second;
+    matched[i] = {-CountFeatureMatches(frame_features, keyframe_features_.at(k), {}), k};
+  });
   const int n = std::min<int>(options_.relocalisation.candidates, static_cast<int>(matched.size()));
   std::partial_sort(matched.begin(), matched.begin() + n, matched.end());
   std::vector<int> candidates = {ref};
   for (int i = 0; i < n; ++i) candidates.push_back(matched[i].second);
 
-  struct Found {
-    TrackResult result;
-    int keyframe = -1;
+  // Each candidate keyframe's alignments: the two guesses of lowest coarse energy, refined.
+  struct Aligned {
     std::vector<ReferencePoint> points;
     std::shared_ptr<const ImagePyramid> pyramid;
     double mean_idepth = 0.0;
+    std::vector<TrackResult> results;
   };
-  // best: passed the quality test and the jump check; sighted: passed the quality test.
-  std::optional<Found> best, sighted;
-  const bool predicted = since <= options_.relocalisation.max_predicted_frames;
-  std::string why = "no keyframe to relocalise against";
-  for (int k : candidates) {
+  std::vector<Aligned> aligned(candidates.size());
+  tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t c) {
+    const int k = candidates[c];
     const Keyframe& kf = map_.keyframe(k);
-    std::vector<ReferencePoint> points = PointsSeenIn(k);
-    if (points.empty()) continue;
-    std::shared_ptr<const ImagePyramid> kf_pyramid =
+    Aligned& out = aligned[c];
+    out.points = PointsSeenIn(k);
+    if (out.points.empty()) return;
+    out.pyramid =
         kf.pyramid ? kf.pyramid : std::make_shared<const ImagePyramid>(ImagePyramid::FromFixed(kf.image, kf.pyramid_levels));
     FrameTracker tracker(tracker_options);
-    tracker.SetReference(kf_pyramid.get(), camera_, points);
+    tracker.SetReference(out.pyramid.get(), camera_, out.points);
+    out.mean_idepth = tracker.MeanIdepth();
     const SE3d still = last_from_world * kf.cam_from_world.Inverse();
     std::vector<SE3d> guesses;
-    const OrbFeatures& orb = KeyframeFeatures(k);
-    const FeaturePose feature_pose = EstimateFeaturePose(frame_features, orb, points, camera_, {});
+    const FeaturePose feature_pose =
+        EstimateFeaturePose(frame_features, keyframe_features_.at(k), out.points, camera_, {});
     if (feature_pose.ok) guesses.push_back(feature_pose.frame_from_keyframe);
     for (const SE3d& base : {still, half * still, moved * still}) {
       guesses.push_back(base);
@@ -148,24 +161,39 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     for (size_t g = 0; g < guesses.size(); ++g)
       ranked.emplace_back(tracker.CoarseEnergyOverAll(pyramid, guesses[g], alpha, beta), static_cast<int>(g));
     std::stable_sort(ranked.begin(), ranked.end());
-    // The two guesses of lowest coarse energy are refined.
     const int attempts = std::min<int>(2, static_cast<int>(ranked.size()));
-    for (int attempt = 0; attempt < attempts; ++attempt) {
-      const TrackResult r = tracker.Track(pyramid, guesses[ranked[attempt].second], alpha, beta, since);
-      const SE3d step = r.frame_from_keyframe * kf.cam_from_world * last_from_world.Inverse();
-      std::string fail = quality_.CheckTracking(r, step, since, tracker.MeanIdepth(), k != ref);
+    for (int attempt = 0; attempt < attempts; ++attempt)
+      out.results.push_back(tracker.Track(pyramid, guesses[ranked[attempt].second], alpha, beta, since));
+  });
+
+  struct Found {
+    TrackResult result;
+    int keyframe = -1;
+    std::vector<ReferencePoint> points;
+    std::shared_ptr<const ImagePyramid> pyramid;
+    double mean_idepth = 0.0;
+  };
+  // best: passed the quality test and the jump check; sighted: passed the quality test.
+  std::optional<Found> best, sighted;
+  const bool predicted = since <= options_.relocalisation.max_predicted_frames;
+  std::string why = "no keyframe to relocalise against";
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const int k = candidates[c];
+    const Aligned& a = aligned[c];
+    for (const TrackResult& r : a.results) {
+      const SE3d step = r.frame_from_keyframe * map_.keyframe(k).cam_from_world * last_from_world.Inverse();
+      std::string fail = quality_.CheckTracking(r, step, since, a.mean_idepth, k != ref);
       if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))
-        sighted = Found{r, k, points, kf_pyramid, tracker.MeanIdepth()};
+        sighted = Found{r, k, a.points, a.pyramid, a.mean_idepth};
       if (fail.empty()) {
-        fail = predicted ? quality_.CheckJump(step, since, velocity_, tracker.MeanIdepth())
+        fail = predicted ? quality_.CheckJump(step, since, velocity_, a.mean_idepth)
                          : "lost too long to predict the pose";
       }
       if (!fail.empty()) {
         why = fail;
         continue;
       }
-      if (!best || r.residual_p50 < best->result.residual_p50)
-        best = Found{r, k, points, kf_pyramid, tracker.MeanIdepth()};
+      if (!best || r.residual_p50 < best->result.residual_p50) best = Found{r, k, a.points, a.pyramid, a.mean_idepth};
     }
   }
   // The camera's motion per frame through the loss: from the last trusted frame (a pose within

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <unordered_map>
 
 #include <Eigen/Geometry>
@@ -84,7 +87,52 @@ std::vector<cv::DMatch> RatioMatches(const OrbFeatures& frame, const OrbFeatures
 
 }  // namespace
 
+namespace {
+
+// Hamming distance of two 256-bit ORB descriptors.
+inline int Hamming256(const uint8_t* a, const uint8_t* b) {
+  int d = 0;
+  for (int w = 0; w < 4; ++w) {
+    uint64_t x, y;
+    std::memcpy(&x, a + 8 * w, 8);
+    std::memcpy(&y, b + 8 * w, 8);
+    d += __builtin_popcountll(x ^ y);
+  }
+  return d;
+}
+
+// The number of RatioMatches: a frame descriptor counts when its nearest keyframe descriptor is
+// within `ratio` of the second nearest (the count depends on the two distances only). A plain
+// loop, twice as fast as the matcher's brute force with its match lists; compiled also for CPUs
+// with the popcnt instruction and picked at run time.
+__attribute__((target_clones("popcnt", "default"))) int CountRatioMatches256(const cv::Mat& frame,
+                                                                             const cv::Mat& keyframe, double ratio) {
+  int count = 0;
+  for (int i = 0; i < frame.rows; ++i) {
+    const uint8_t* q = frame.ptr<uint8_t>(i);
+    int d1 = std::numeric_limits<int>::max(), d2 = d1;
+    for (int j = 0; j < keyframe.rows; ++j) {
+      const int d = Hamming256(q, keyframe.ptr<uint8_t>(j));
+      if (d < d1) {
+        d2 = d1;
+        d1 = d;
+      } else if (d < d2) {
+        d2 = d;
+      }
+    }
+    if (d2 != std::numeric_limits<int>::max() && d1 <= ratio * d2) ++count;
+  }
+  return count;
+}
+
+}  // namespace
+
 int CountFeatureMatches(const OrbFeatures& frame, const OrbFeatures& keyframe, const FeaturePoseOptions& options) {
+  const cv::Mat& a = frame.descriptors;
+  const cv::Mat& b = keyframe.descriptors;
+  if (a.empty() || b.empty()) return 0;
+  if (a.type() == CV_8U && b.type() == CV_8U && a.cols == 32 && b.cols == 32)
+    return CountRatioMatches256(a, b, options.ratio);
   return static_cast<int>(RatioMatches(frame, keyframe, options.ratio).size());
 }
 

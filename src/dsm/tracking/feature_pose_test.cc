@@ -4,6 +4,7 @@
 #include "dsm/tracking/feature_pose.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/features2d.hpp>
 
 #include "dsm/synth/renderer.h"
 
@@ -53,6 +54,46 @@ TEST(FeaturePose, RecoversALargeOffsetThatDirectAlignmentMisses) {
   err = refined.frame_from_keyframe * truth.Inverse();
   EXPECT_LT(err.So3().Log().norm() * 180 / M_PI, 0.1);
   EXPECT_LT(err.Translation().norm(), 0.005);
+}
+
+// The count that ranks relocalisation candidates is the number of matches of OpenCV's brute-force
+// matcher that pass the ratio test, on real features of two views and on descriptor sets with
+// exact ties and single rows.
+TEST(FeaturePose, CountsTheRatioMatchesOfTheBruteForceMatcher) {
+  synth::SynthOptions options;
+  options.scene = "loop";
+  const synth::SynthSequence seq = synth::MakeSequence(options);
+  synth::FormationOptions formation;
+  formation.noise_sigma = 1.0;
+  const ImagePyramid pa(synth::RenderSequenceFrame(seq, 100, formation).image, 5);
+  const ImagePyramid pb(synth::RenderSequenceFrame(seq, 106, formation).image, 5);
+  const FeaturePoseOptions fo;
+  const OrbFeatures a = DetectOrbFeatures(pa, fo), b = DetectOrbFeatures(pb, fo);
+  ASSERT_GT(a.descriptors.rows, 500);
+  ASSERT_GT(b.descriptors.rows, 500);
+  const auto brute_force = [](const OrbFeatures& x, const OrbFeatures& y, double ratio) {
+    std::vector<std::vector<cv::DMatch>> knn;
+    cv::BFMatcher(cv::NORM_HAMMING).knnMatch(x.descriptors, y.descriptors, knn, 2);
+    int n = 0;
+    for (const auto& m : knn) n += m.size() == 2 && m[0].distance <= ratio * m[1].distance;
+    return n;
+  };
+  const int expected = brute_force(b, a, fo.ratio);
+  EXPECT_GT(expected, 100);  // Six frames apart: many true matches.
+  EXPECT_EQ(CountFeatureMatches(b, a, fo), expected);
+  EXPECT_EQ(CountFeatureMatches(a, b, fo), brute_force(a, b, fo.ratio));
+
+  // Ties: every keyframe descriptor twice (nearest and second nearest equal: no match passes
+  // unless the distance is 0), and a keyframe of one descriptor (no second nearest).
+  OrbFeatures doubled;
+  cv::vconcat(a.descriptors, a.descriptors, doubled.descriptors);
+  EXPECT_EQ(CountFeatureMatches(b, doubled, fo), brute_force(b, doubled, fo.ratio));
+  EXPECT_EQ(CountFeatureMatches(a, doubled, fo), brute_force(a, doubled, fo.ratio));
+  EXPECT_EQ(CountFeatureMatches(a, doubled, fo), a.descriptors.rows);  // Each finds itself twice at 0.
+  OrbFeatures single;
+  single.descriptors = a.descriptors.row(0).clone();
+  EXPECT_EQ(CountFeatureMatches(b, single, fo), 0);
+  EXPECT_EQ(CountFeatureMatches(b, OrbFeatures{}, fo), 0);
 }
 
 }  // namespace

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: MIT
+// Ranking relocalisation candidates: the ratio-test match count of a frame's ORB features against
+// a keyframe's (rendered 640x480 loop frames six steps apart, up to 1000 features each), by
+// CountFeatureMatches and by OpenCV's brute-force matcher it replaces, and the detection itself.
+#include <benchmark/benchmark.h>
+#include <opencv2/features2d.hpp>
+
+#include "dsm/synth/renderer.h"
+#include "dsm/tracking/feature_pose.h"
+
+namespace dsm {
+namespace {
+
+struct Fixture {
+  ImagePyramid frame;
+  OrbFeatures a, b;
+};
+
+const Fixture& GetFixture() {
+  static const Fixture f = [] {
+    synth::SynthOptions options;
+    options.scene = "loop";
+    const synth::SynthSequence seq = synth::MakeSequence(options);
+    const synth::FormationOptions formation;
+    Fixture fx;
+    fx.frame = ImagePyramid(synth::RenderSequenceFrame(seq, 100, formation).image, 5);
+    fx.a = DetectOrbFeatures(fx.frame, {});
+    fx.b = DetectOrbFeatures(ImagePyramid(synth::RenderSequenceFrame(seq, 106, formation).image, 5), {});
+    return fx;
+  }();
+  return f;
+}
+
+void BM_CountFeatureMatches(benchmark::State& state) {
+  const Fixture& f = GetFixture();
+  for (auto _ : state) benchmark::DoNotOptimize(CountFeatureMatches(f.b, f.a, {}));
+}
+BENCHMARK(BM_CountFeatureMatches)->Unit(benchmark::kMillisecond);
+
+void BM_BruteForceKnnRatioMatches(benchmark::State& state) {
+  const Fixture& f = GetFixture();
+  for (auto _ : state) {
+    std::vector<std::vector<cv::DMatch>> knn;
+    cv::BFMatcher(cv::NORM_HAMMING).knnMatch(f.b.descriptors, f.a.descriptors, knn, 2);
+    int n = 0;
+    for (const auto& m : knn) n += m.size() == 2 && m[0].distance <= 0.8 * m[1].distance;
+    benchmark::DoNotOptimize(n);
+  }
+}
+BENCHMARK(BM_BruteForceKnnRatioMatches)->Unit(benchmark::kMillisecond);
+
+void BM_DetectOrbFeatures(benchmark::State& state) {
+  const Fixture& f = GetFixture();
+  for (auto _ : state) benchmark::DoNotOptimize(DetectOrbFeatures(f.frame, {}));
+}
+BENCHMARK(BM_DetectOrbFeatures)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace dsm
+
+BENCHMARK_MAIN();
