@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/core/types.hpp>
 
 #include "dsm/geometry/camera.h"
 #include "dsm/image/pyramid.h"
@@ -44,8 +45,13 @@ struct FeaturePose {
   int matches = 0, inliers = 0;  // Matches with a depth, PnP inliers among them.
 };
 
-// Matches of `frame`'s descriptors in `keyframe`'s that pass the ratio test (their count ranks
-// relocalisation candidates).
+// Each of `frame`'s descriptors matched to its nearest in `keyframe`'s (queryIdx, trainIdx), kept
+// when that is within options.ratio of the second nearest (Lowe's test); as OpenCV's brute-force
+// k-nearest matcher would, the first of equally near descriptors taken.
+std::vector<cv::DMatch> MatchFeatures(const OrbFeatures& frame, const OrbFeatures& keyframe,
+                                      const FeaturePoseOptions& options);
+
+// The number of MatchFeatures (it ranks relocalisation candidates).
 int CountFeatureMatches(const OrbFeatures& frame, const OrbFeatures& keyframe, const FeaturePoseOptions& options);
 
 // `points`: the keyframe's map points (level-0 pixel and inverse depth in the keyframe).

@@ -56,10 +56,10 @@ TEST(FeaturePose, RecoversALargeOffsetThatDirectAlignmentMisses) {
   EXPECT_LT(err.Translation().norm(), 0.005);
 }
 
-// The count that ranks relocalisation candidates is the number of matches of OpenCV's brute-force
-// matcher that pass the ratio test, on real features of two views and on descriptor sets with
-// exact ties and single rows.
-TEST(FeaturePose, CountsTheRatioMatchesOfTheBruteForceMatcher) {
+// Matching equals OpenCV's brute-force k-nearest matcher with the ratio test (the same pairs, the
+// first of equally near descriptors taken), on real features of two views and on descriptor sets
+// with exact ties and single rows.
+TEST(FeaturePose, MatchesAsTheBruteForceMatcher) {
   synth::SynthOptions options;
   options.scene = "loop";
   const synth::SynthSequence seq = synth::MakeSequence(options);
@@ -71,29 +71,42 @@ TEST(FeaturePose, CountsTheRatioMatchesOfTheBruteForceMatcher) {
   const OrbFeatures a = DetectOrbFeatures(pa, fo), b = DetectOrbFeatures(pb, fo);
   ASSERT_GT(a.descriptors.rows, 500);
   ASSERT_GT(b.descriptors.rows, 500);
-  const auto brute_force = [](const OrbFeatures& x, const OrbFeatures& y, double ratio) {
+  const auto brute_force = [&](const OrbFeatures& x, const OrbFeatures& y) {
     std::vector<std::vector<cv::DMatch>> knn;
     cv::BFMatcher(cv::NORM_HAMMING).knnMatch(x.descriptors, y.descriptors, knn, 2);
-    int n = 0;
-    for (const auto& m : knn) n += m.size() == 2 && m[0].distance <= ratio * m[1].distance;
-    return n;
+    std::vector<cv::DMatch> good;
+    for (const auto& m : knn)
+      if (m.size() == 2 && m[0].distance <= fo.ratio * m[1].distance) good.push_back(m[0]);
+    return good;
   };
-  const int expected = brute_force(b, a, fo.ratio);
-  EXPECT_GT(expected, 100);  // Six frames apart: many true matches.
-  EXPECT_EQ(CountFeatureMatches(b, a, fo), expected);
-  EXPECT_EQ(CountFeatureMatches(a, b, fo), brute_force(a, b, fo.ratio));
+  const auto expect_same = [&](const OrbFeatures& x, const OrbFeatures& y) {
+    const std::vector<cv::DMatch> expected = brute_force(x, y), got = MatchFeatures(x, y, fo);
+    ASSERT_EQ(got.size(), expected.size());
+    for (size_t i = 0; i < got.size(); ++i) {
+      EXPECT_EQ(got[i].queryIdx, expected[i].queryIdx);
+      EXPECT_EQ(got[i].trainIdx, expected[i].trainIdx) << "query " << got[i].queryIdx;
+      EXPECT_EQ(got[i].distance, expected[i].distance);
+    }
+    EXPECT_EQ(CountFeatureMatches(x, y, fo), static_cast<int>(expected.size()));
+  };
+  EXPECT_GT(brute_force(b, a).size(), 100u);  // Six frames apart: many true matches.
+  expect_same(b, a);
+  expect_same(a, b);
 
-  // Ties: every keyframe descriptor twice (nearest and second nearest equal: no match passes
-  // unless the distance is 0), and a keyframe of one descriptor (no second nearest).
+  // Ties: every keyframe descriptor twice (the nearest and the second nearest equal: no match
+  // passes unless the distance is 0, and then the first copy is the match), and a keyframe of one
+  // descriptor (no second nearest).
   OrbFeatures doubled;
   cv::vconcat(a.descriptors, a.descriptors, doubled.descriptors);
-  EXPECT_EQ(CountFeatureMatches(b, doubled, fo), brute_force(b, doubled, fo.ratio));
-  EXPECT_EQ(CountFeatureMatches(a, doubled, fo), brute_force(a, doubled, fo.ratio));
-  EXPECT_EQ(CountFeatureMatches(a, doubled, fo), a.descriptors.rows);  // Each finds itself twice at 0.
+  expect_same(b, doubled);
+  expect_same(a, doubled);
+  const std::vector<cv::DMatch> self = MatchFeatures(a, doubled, fo);
+  ASSERT_EQ(self.size(), static_cast<size_t>(a.descriptors.rows));
+  for (const cv::DMatch& m : self) EXPECT_LT(m.trainIdx, a.descriptors.rows);
   OrbFeatures single;
   single.descriptors = a.descriptors.row(0).clone();
-  EXPECT_EQ(CountFeatureMatches(b, single, fo), 0);
-  EXPECT_EQ(CountFeatureMatches(b, OrbFeatures{}, fo), 0);
+  EXPECT_TRUE(MatchFeatures(b, single, fo).empty());
+  EXPECT_TRUE(MatchFeatures(b, OrbFeatures{}, fo).empty());
 }
 
 }  // namespace
