@@ -89,10 +89,9 @@ inline int Hamming256(const uint8_t* a, const uint8_t* b) {
 // Each frame descriptor's nearest keyframe descriptor, kept when it is within `ratio` of the
 // second nearest (Lowe's test); of equal distances the first keyframe descriptor is the nearest,
 // as with OpenCV's brute-force k-nearest matcher, which this equals for ORB's 256-bit descriptors
-// at a fourth of its time (a plain loop instead of a distance matrix and match lists; compiled
-// also for CPUs with the popcnt instruction, picked at run time).
-__attribute__((target_clones("popcnt", "default"))) void RatioMatches256(const cv::Mat& frame, const cv::Mat& keyframe,
-                                                                         double ratio, std::vector<cv::DMatch>* good) {
+// at a fourth of its time (a plain loop instead of a distance matrix and match lists).
+__attribute__((always_inline)) inline void RatioMatches256(const cv::Mat& frame, const cv::Mat& keyframe,
+                                                           double ratio, std::vector<cv::DMatch>* good) {
   for (int i = 0; i < frame.rows; ++i) {
     const uint8_t* q = frame.ptr<uint8_t>(i);
     int d1 = std::numeric_limits<int>::max(), d2 = d1, j1 = -1;
@@ -110,6 +109,19 @@ __attribute__((target_clones("popcnt", "default"))) void RatioMatches256(const c
   }
 }
 
+// The same loop compiled with the popcnt instruction (the build targets the x86-64 baseline),
+// taken when the CPU has it. Dispatched by a check at the call, not by an ifunc resolver: those
+// run before a sanitizer's runtime is up and crash ThreadSanitizer builds at load time.
+__attribute__((target("popcnt"))) void RatioMatches256Popcnt(const cv::Mat& frame, const cv::Mat& keyframe,
+                                                              double ratio, std::vector<cv::DMatch>* good) {
+  RatioMatches256(frame, keyframe, ratio, good);
+}
+
+void RatioMatches256Generic(const cv::Mat& frame, const cv::Mat& keyframe, double ratio,
+                            std::vector<cv::DMatch>* good) {
+  RatioMatches256(frame, keyframe, ratio, good);
+}
+
 }  // namespace
 
 std::vector<cv::DMatch> MatchFeatures(const OrbFeatures& frame, const OrbFeatures& keyframe,
@@ -120,7 +132,8 @@ std::vector<cv::DMatch> MatchFeatures(const OrbFeatures& frame, const OrbFeature
   const cv::Mat& b = keyframe.descriptors;
   if (a.empty() || b.empty()) return good;
   if (a.type() == CV_8U && b.type() == CV_8U && a.cols == 32 && b.cols == 32 && a.isContinuous() && b.isContinuous()) {
-    RatioMatches256(a, b, ratio, &good);
+    static const bool popcnt = __builtin_cpu_supports("popcnt");
+    (popcnt ? RatioMatches256Popcnt : RatioMatches256Generic)(a, b, ratio, &good);
     return good;
   }
   std::vector<std::vector<cv::DMatch>> knn;
