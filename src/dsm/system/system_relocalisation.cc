@@ -169,9 +169,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   struct Found {
     TrackResult result;
     int keyframe = -1;
-    std::vector<ReferencePoint> points;
-    std::shared_ptr<const ImagePyramid> pyramid;
-    double mean_idepth = 0.0;
+    Aligned* aligned = nullptr;  // The keyframe's points, pyramid and mean inverse depth.
   };
   // best: passed the quality test and the jump check; sighted: passed the quality test.
   std::optional<Found> best, sighted;
@@ -179,12 +177,12 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   std::string why = "no keyframe to relocalise against";
   for (size_t c = 0; c < candidates.size(); ++c) {
     const int k = candidates[c];
-    const Aligned& a = aligned[c];
+    Aligned& a = aligned[c];
     for (const TrackResult& r : a.results) {
       const SE3d step = r.frame_from_keyframe * map_.keyframe(k).cam_from_world * last_from_world.Inverse();
       std::string fail = quality_.CheckTracking(r, step, since, a.mean_idepth, k != ref);
       if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))
-        sighted = Found{r, k, a.points, a.pyramid, a.mean_idepth};
+        sighted = Found{r, k, &a};
       if (fail.empty()) {
         fail = predicted ? quality_.CheckJump(step, since, velocity_, a.mean_idepth)
                          : "lost too long to predict the pose";
@@ -193,7 +191,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
         why = fail;
         continue;
       }
-      if (!best || r.residual_p50 < best->result.residual_p50) best = Found{r, k, a.points, a.pyramid, a.mean_idepth};
+      if (!best || r.residual_p50 < best->result.residual_p50) best = Found{r, k, &a};
     }
   }
   // The camera's motion per frame through the loss: from the last trusted frame (a pose within
@@ -207,7 +205,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   if (best) *velocity = internal::ScaleSteps(cam_from_world(*best) * last_from_world.Inverse(), 1.0 / since);
   if (!best && sighted) {
     const Sighting now{index, cam_from_world(*sighted)};
-    if (MovesAsOneCamera(now, sighted->mean_idepth)) {
+    if (MovesAsOneCamera(now, sighted->aligned->mean_idepth)) {
       const Sighting& before = sightings_.back();
       *velocity = internal::ScaleSteps(now.cam_from_world * before.cam_from_world.Inverse(), 1.0 / (index - before.index));
       best = std::move(sighted);
@@ -225,7 +223,8 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   sightings_.clear();
   // The keyframe becomes the reference of both sides: the mapping side is idle, and the next
   // keyframe it maps is made relative to it.
-  if (best->keyframe != ref) AdoptReference(MakeReference(best->keyframe, std::move(best->points), best->pyramid));
+  if (best->keyframe != ref)
+    AdoptReference(MakeReference(best->keyframe, std::move(best->aligned->points), best->aligned->pyramid));
   *result = best->result;
   return true;
 }
