@@ -92,9 +92,8 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
 
   // Candidates: the reference, then the keyframes with the most feature matches among the
   // kPool most alike by thumbnail (a thumbnail alone ranks poorly after a large change of view).
-  // The mapping side is idle, so the features, their matches and the candidates' alignments run
-  // in parallel (a lost live camera drops its frames meanwhile); each result goes to its own slot
-  // and they are weighed in order below, so the outcome is that of a sequential loop.
+  // The parallel stages (see above) write each result to its own slot; they are weighed in order
+  // below, so the outcome is that of a sequential loop.
   constexpr int kPool = 12;
   std::vector<std::pair<double, int>> similar;
   for (int k = 0; k < map_.NumKeyframes(); ++k)

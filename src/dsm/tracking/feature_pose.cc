@@ -131,7 +131,7 @@ std::vector<cv::DMatch> MatchFeatures(const OrbFeatures& frame, const OrbFeature
   const cv::Mat& a = frame.descriptors;
   const cv::Mat& b = keyframe.descriptors;
   if (a.empty() || b.empty()) return good;
-  if (a.type() == CV_8U && b.type() == CV_8U && a.cols == 32 && b.cols == 32 && a.isContinuous() && b.isContinuous()) {
+  if (a.type() == CV_8U && b.type() == CV_8U && a.cols == 32 && b.cols == 32) {
     static const bool popcnt = __builtin_cpu_supports("popcnt");
     (popcnt ? RatioMatches256Popcnt : RatioMatches256Generic)(a, b, ratio, &good);
     return good;

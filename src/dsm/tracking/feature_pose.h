@@ -12,7 +12,6 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/core/types.hpp>
 
 #include "dsm/geometry/camera.h"
 #include "dsm/image/pyramid.h"

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Ranking relocalisation candidates: the ratio-test match count of a frame's ORB features against
 // a keyframe's (rendered 640x480 loop frames six steps apart, up to 1000 features each), by
-// CountFeatureMatches and by OpenCV's brute-force matcher it replaces, and the detection itself.
+// MatchFeatures and by OpenCV's brute-force matcher it replaces, and the detection itself.
 #include <benchmark/benchmark.h>
 #include <opencv2/features2d.hpp>
 
