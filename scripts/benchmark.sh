@@ -36,18 +36,24 @@ render() {  # render SCENE DIR [synth args]
   if [ ! -f "$dir/groundtruth.tum" ]; then "$DSM" synth --scene "$scene" --out "$dir" "$@" >/dev/null; fi
 }
 
+# jq helpers: rounding; over a per-keyframe list, the mean of keyframes 100-200 ("-" with 100 or
+# fewer: the long loop's bound compares them with the last 100) and of the last 100.
+JQ_DEFS='
+  def r(d): . * pow(10; d) | round / pow(10; d);
+  def mean: if length == 0 then 0 else add / length end;
+  def kf100to200(d): if length > 100 then (.[100:200] | mean | r(d)) else "-" end;
+  def last100(d): .[(length - 100 | if . < 0 then 0 else . end):] | mean | r(d);
+'
+
 # One row from a run's stats.json and eval.json.
 row() {  # row NAME PACE RUN_DIR
   local name=$1 pace=$2 run=$3 ate="-"
   if [ -f "$run/eval.json" ]; then ate=$(jq '.keyframes.ape.rmse * 1000 | . * 100 | round / 100' "$run/eval.json"); fi
-  jq -r --arg name "$name" --arg pace "$pace" --arg ate "$ate" '
-    def r(d): . * pow(10; d) | round / pow(10; d);
-    def mean: if length == 0 then 0 else add / length end;
+  jq -r --arg name "$name" --arg pace "$pace" --arg ate "$ate" "$JQ_DEFS"'
     [.per_keyframe[] | .pba.ms | select(. > 0)] as $pba |
-    ($pba | length) as $n |
     "| \($name) | \($pace) | \(.frames)/\(.frames + .frames_dropped) | \(.keyframes) | " +
     "\(.timing_ms.tracking.median | r(1)) / \(.timing_ms.tracking.p90 | r(1)) | " +
-    "\(.timing_ms.pba.mean | r(0)) / \(if $n > 100 then ($pba[100:200] | mean | r(0)) else "-" end) / \($pba[($n - 100 | if . < 0 then 0 else . end):] | mean | r(0)) | " +
+    "\(.timing_ms.pba.mean | r(0)) / \($pba | kf100to200(0)) / \($pba | last100(0)) | " +
     "\(.frames_per_second | r(1)) | \((.realtime_factor // 0) | r(2)) | \(.frames_dropped) | " +
     "\(.latency_ms.median | r(0)) / \(.latency_ms.p90 | r(0)) / \(.latency_final_ms.p90 | r(0)) | \(.peak_rss_mb | r(0)) | \($ate) |"' "$run/stats.json"
 }
@@ -90,15 +96,12 @@ run_free "loop_$LONG_FRAMES" "$WORK/seq_loop_$LONG_FRAMES"
 # What the long loop's bundle adjustments hold, keyframes 100-200 against the last 100: counts
 # that do not drift with the machine's speed, unlike the times above.
 problem() {  # problem RUN_DIR
-  jq -r '
-    def r(d): . * pow(10; d) | round / pow(10; d);
-    def mean: if length == 0 then 0 else add / length end;
+  jq -r "$JQ_DEFS"'
     [.per_keyframe[] | .pba | select(.ms > 0)] as $p |
-    ($p | length) as $n | ($p[($n - 100 | if . < 0 then 0 else . end):]) as $last |
     "\nLong loop, per bundle adjustment (keyframes 100-200 / last 100): fixed keyframes " +
-    "\($p[100:200] | map(.fixed_keyframes) | mean | r(1)) / \($last | map(.fixed_keyframes) | mean | r(1)), " +
-    "observations \($p[100:200] | map(.observations) | mean | r(0)) / \($last | map(.observations) | mean | r(0)), " +
-    "LM iterations \($p[100:200] | map(.iterations) | mean | r(1)) / \($last | map(.iterations) | mean | r(1)); " +
+    "\($p | map(.fixed_keyframes) | kf100to200(1)) / \($p | map(.fixed_keyframes) | last100(1)), " +
+    "observations \($p | map(.observations) | kf100to200(0)) / \($p | map(.observations) | last100(0)), " +
+    "LM iterations \($p | map(.iterations) | kf100to200(1)) / \($p | map(.iterations) | last100(1)); " +
     "keyframe pyramids rebuilt in all: \(.pyramids_rebuilt)"' "$1/stats.json"
 }
 if [ -f "$WORK/run_loop_${LONG_FRAMES}_free/stats.json" ]; then problem "$WORK/run_loop_${LONG_FRAMES}_free"; fi

@@ -126,20 +126,25 @@ void RatioMatches256Generic(const cv::Mat& frame, const cv::Mat& keyframe, doubl
 
 std::vector<cv::DMatch> MatchFeatures(const OrbFeatures& frame, const OrbFeatures& keyframe,
                                       const FeaturePoseOptions& options) {
-  const double ratio = options.ratio;
-  std::vector<cv::DMatch> good;
   const cv::Mat& a = frame.descriptors;
   const cv::Mat& b = keyframe.descriptors;
-  if (a.empty() || b.empty()) return good;
-  if (a.type() == CV_8U && b.type() == CV_8U && a.cols == 32 && b.cols == 32) {
-    static const bool popcnt = __builtin_cpu_supports("popcnt");
-    (popcnt ? RatioMatches256Popcnt : RatioMatches256Generic)(a, b, ratio, &good);
-    return good;
-  }
+  if (a.empty() || b.empty()) return {};
+  if (a.type() != CV_8U || b.type() != CV_8U || a.cols != 32 || b.cols != 32)
+    return MatchFeaturesBruteForce(frame, keyframe, options);
+  static const bool popcnt = __builtin_cpu_supports("popcnt");
+  std::vector<cv::DMatch> good;
+  (popcnt ? RatioMatches256Popcnt : RatioMatches256Generic)(a, b, options.ratio, &good);
+  return good;
+}
+
+std::vector<cv::DMatch> MatchFeaturesBruteForce(const OrbFeatures& frame, const OrbFeatures& keyframe,
+                                                const FeaturePoseOptions& options) {
+  std::vector<cv::DMatch> good;
+  if (frame.descriptors.empty() || keyframe.descriptors.empty()) return good;
   std::vector<std::vector<cv::DMatch>> knn;
-  cv::BFMatcher(cv::NORM_HAMMING).knnMatch(a, b, knn, 2);
+  cv::BFMatcher(cv::NORM_HAMMING).knnMatch(frame.descriptors, keyframe.descriptors, knn, 2);
   for (const auto& m : knn)
-    if (m.size() == 2 && m[0].distance <= ratio * m[1].distance) good.push_back(m[0]);
+    if (m.size() == 2 && m[0].distance <= options.ratio * m[1].distance) good.push_back(m[0]);
   return good;
 }
 

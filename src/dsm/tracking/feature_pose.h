@@ -50,6 +50,12 @@ struct FeaturePose {
 std::vector<cv::DMatch> MatchFeatures(const OrbFeatures& frame, const OrbFeatures& keyframe,
                                       const FeaturePoseOptions& options);
 
+// The same pairs by OpenCV's brute-force k-nearest matcher (NORM_HAMMING, k = 2) and the ratio
+// test: MatchFeatures' path for descriptors other than 256-bit ORB ones, and the reference its own
+// loop is tested and timed against.
+std::vector<cv::DMatch> MatchFeaturesBruteForce(const OrbFeatures& frame, const OrbFeatures& keyframe,
+                                                const FeaturePoseOptions& options);
+
 // The number of MatchFeatures (it ranks relocalisation candidates).
 int CountFeatureMatches(const OrbFeatures& frame, const OrbFeatures& keyframe, const FeaturePoseOptions& options);
 

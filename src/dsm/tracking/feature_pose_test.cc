@@ -4,7 +4,6 @@
 #include "dsm/tracking/feature_pose.h"
 
 #include <gtest/gtest.h>
-#include <opencv2/features2d.hpp>
 
 #include "dsm/synth/renderer.h"
 
@@ -71,14 +70,7 @@ TEST(FeaturePose, MatchesAsTheBruteForceMatcher) {
   const OrbFeatures a = DetectOrbFeatures(pa, fo), b = DetectOrbFeatures(pb, fo);
   ASSERT_GT(a.descriptors.rows, 500);
   ASSERT_GT(b.descriptors.rows, 500);
-  const auto brute_force = [&](const OrbFeatures& x, const OrbFeatures& y) {
-    std::vector<std::vector<cv::DMatch>> knn;
-    cv::BFMatcher(cv::NORM_HAMMING).knnMatch(x.descriptors, y.descriptors, knn, 2);
-    std::vector<cv::DMatch> good;
-    for (const auto& m : knn)
-      if (m.size() == 2 && m[0].distance <= fo.ratio * m[1].distance) good.push_back(m[0]);
-    return good;
-  };
+  const auto brute_force = [&](const OrbFeatures& x, const OrbFeatures& y) { return MatchFeaturesBruteForce(x, y, fo); };
   const auto expect_same = [&](const OrbFeatures& x, const OrbFeatures& y) {
     const std::vector<cv::DMatch> expected = brute_force(x, y), got = MatchFeatures(x, y, fo);
     ASSERT_EQ(got.size(), expected.size());
