@@ -41,8 +41,9 @@ struct PbaOptions {
   // solve that moved it (Keyframe::most_pba_links; 0: never).
   double min_link_ratio = 0.3;
   int max_outside_observations = 3;  // Per point of a held keyframe: the newest ones outside the window.
-  // Keyframes outside the window in the problem (fixed): the most observed ones; 0: all.
-  int max_outside_keyframes = 0;
+  // Keyframes outside the window in the problem (fixed): the most observed ones; 0: all. Bounds
+  // the problem as the map grows (16 or 24 cost accuracy on the synthetic orbit and forward).
+  int max_outside_keyframes = 32;
   // Per point of any active keyframe: at most the newest this many observations outside the
   // window (0: all). Bounds the outside observations by a multiple of the active points.
   int outside_observations_per_point = 0;

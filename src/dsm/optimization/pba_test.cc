@@ -2,11 +2,13 @@
 // The PBA recovers perturbed keyframe poses and point depths of rendered frames.
 #include "dsm/optimization/pba.h"
 
+#include <algorithm>
 #include <random>
 
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
+#include "dsm/optimization/pba_selection.h"
 #include "dsm/optimization/pba_world.h"
 #include "dsm/testing/motion_error.h"
 
@@ -120,6 +122,41 @@ TEST(Pba, KeepsTheNewestObservationsOutsideTheWindow) {
   const PbaSummary per_point = RunPba(&bounded.map, bounded.seq.camera, {0, 1}, options);
   EXPECT_EQ(per_point.observations, 2 * per_point.points);
   EXPECT_EQ(per_point.keyframes, 3);
+}
+
+TEST(Pba, TakesInTheMostObservedKeyframesOutsideTheWindow) {
+  World w;
+  BuildWorld({0, 6, 12, 18, 24}, &w);
+  // Active {0, 1}: their points are observed in keyframes 2, 3 and 4 outside the window. Keyframe 3
+  // loses a third of its observations, so it is the least observed; 2 and 4 tie.
+  int dropped = 0;
+  for (int i = 0; i < w.map.NumPoints(); ++i) {
+    Point& p = w.map.point(i);
+    if (p.host > 1) continue;
+    for (Observation& o : p.observations) {
+      if (o.target != 3 || i % 3 != 0) continue;
+      o.outlier = true;
+      ++dropped;
+    }
+  }
+  ASSERT_GT(dropped, 50);
+  const auto outside = [&](int cap) {
+    PbaOptions options;
+    options.max_outside_keyframes = cap;
+    std::vector<int> fixed_outside;
+    const PbaSelection s = SelectPbaProblem(w.map, {0, 1}, {}, options);
+    for (size_t c = 0; c < s.cams.size(); ++c) {
+      if (s.cams[c] <= 1) continue;
+      fixed_outside.push_back(s.cams[c]);
+      EXPECT_TRUE(s.fixed[c]) << "keyframe " << s.cams[c];
+    }
+    std::sort(fixed_outside.begin(), fixed_outside.end());
+    return fixed_outside;
+  };
+  EXPECT_EQ(outside(0), (std::vector<int>{2, 3, 4}));
+  EXPECT_EQ(outside(3), (std::vector<int>{2, 3, 4}));
+  EXPECT_EQ(outside(2), (std::vector<int>{2, 4}));
+  EXPECT_EQ(outside(1), (std::vector<int>{4}));  // On a tie the newer.
 }
 
 TEST(Pba, AKeyframeInFewObservationsStaysFixed) {
