@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <initializer_list>
+#include <map>
 
 #include "dsm/util/check.h"
 
@@ -155,23 +156,40 @@ ImageHeader ReadBmp(HeaderBytes& h) {
 
 // TIFF: "II" (little endian) or "MM", 42, the first IFD's offset (4); the IFD: entry count (2), then
 // 12-byte entries: tag (2), type (2: 3 SHORT, 4 LONG), count (4), value (4, a SHORT in its first two).
+// Besides the size, the decoder allocates one strip (width x RowsPerStrip) or one tile (TileWidth x
+// TileLength) at up to 4 bytes a pixel whatever the image's size, so that unit is bounded as the image
+// is: a RowsPerStrip of 65535 on a 12090-wide image asks for 3.2 GB.
 ImageHeader ReadTiff(HeaderBytes& h) {
   h.big_endian = h.b[0] == 'M';
   const size_t ifd = h.U32(4);
   const uint32_t entries = h.U16(ifd);
-  uint64_t width = 0, height = 0;
+  constexpr uint32_t kWidth = 256, kLength = 257, kRowsPerStrip = 278, kTileWidth = 322, kTileLength = 323;
+  std::map<uint32_t, uint64_t> value;  // The sizing tags present.
   for (uint32_t i = 0; i < entries; ++i) {
     const size_t entry = ifd + 2 + 12 * size_t{i};
     const uint32_t tag = h.U16(entry);
-    if (tag != 256 && tag != 257) continue;
+    if (tag != kWidth && tag != kLength && tag != kRowsPerStrip && tag != kTileWidth && tag != kTileLength) continue;
     const uint32_t type = h.U16(entry + 2);
     if (type != 3 && type != 4) h.Fail("the TIFF tag " + std::to_string(tag) + " has type " + std::to_string(type));
     // libtiff keeps the first of two equal tags: a second one would let the decoder see another size.
-    uint64_t& side = tag == 256 ? width : height;
-    if (side != 0) h.Fail("the TIFF has tag " + std::to_string(tag) + " twice");
-    side = type == 3 ? h.U16(entry + 8) : h.U32(entry + 8);
+    if (value.count(tag) != 0) h.Fail("the TIFF has tag " + std::to_string(tag) + " twice");
+    value[tag] = type == 3 ? h.U16(entry + 8) : h.U32(entry + 8);
   }
-  return Sized(h, width, height);
+  const auto get = [&](uint32_t tag) { return value.count(tag) != 0 ? value.at(tag) : uint64_t{0}; };
+  const ImageHeader header = Sized(h, get(kWidth), get(kLength));
+  if (value.count(kTileWidth) != 0 || value.count(kTileLength) != 0) {
+    const uint64_t tile = get(kTileWidth) * get(kTileLength);
+    if (tile == 0 || tile > kMaxImagePixels)
+      h.Fail("the TIFF declares tiles of " + std::to_string(get(kTileWidth)) + "x" +
+             std::to_string(get(kTileLength)) + " pixels (1 to " + std::to_string(kMaxImagePixels) + " pixels)");
+  } else {
+    // No RowsPerStrip, 0 or 2^32 - 1: one strip of the whole image, as the size check bounds already.
+    const uint64_t rows = get(kRowsPerStrip);
+    if (rows != 0 && rows != 0xFFFFFFFF && header.width * rows > kMaxImagePixels)
+      h.Fail("the TIFF declares strips of " + std::to_string(rows) + " rows of " + std::to_string(header.width) +
+             " pixels (at most " + std::to_string(kMaxImagePixels) + " pixels a strip)");
+  }
+  return header;
 }
 
 }  // namespace

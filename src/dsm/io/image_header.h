@@ -8,7 +8,8 @@
 //   JPEG  the segments up to the first start-of-frame marker (SOF0..SOF15 but DHT, JPG, DAC);
 //   PNM   P2 / P3 / P5 / P6: width, height, maxval in ASCII, '#' comments between them;
 //   BMP   the core (12-byte) or info (>= 40-byte) header; a negative height is top-down;
-//   TIFF  the first IFD's ImageWidth (256) and ImageLength (257) tags, either byte order.
+//   TIFF  the first IFD's ImageWidth (256) and ImageLength (257) tags, either byte order, and the
+//         strip (RowsPerStrip, 278) or tile (TileWidth, TileLength: 322, 323) the decoder allocates.
 // Formats that store pixels uncompressed (binary PNM, BMP without RLE) must also hold all of them:
 // width x height x bytes per pixel, with BMP's rows padded to 4 bytes.
 #pragma once

@@ -108,6 +108,27 @@ TEST(ImageHeader, SizesOutOfBoundsAreRefusedInEveryFormat) {
   EXPECT_NE(Refusal(no_length).find("declares 20000x0"), std::string::npos) << Refusal(no_length);
 }
 
+// Kept from fuzzing: a 12090x12 TIFF in strips of 65535 rows; OpenCV allocates the strip as RGBA, 3.2 GB.
+TEST(ImageHeader, BoundsTheTiffStripAndTileTheDecoderAllocates) {
+  // Little endian, one IFD at byte 8 with three entries: ImageWidth 12090, ImageLength 12, RowsPerStrip.
+  std::vector<uint8_t> tiff = {'I', 'I', 42, 0, 8, 0, 0, 0, 3, 0,                      //
+                               0,   1,   3,  0, 1, 0, 0, 0, 0x3A, 0x2F, 0, 0,          // 256: 12090
+                               1,   1,   3,  0, 1, 0, 0, 0, 12, 0, 0, 0,               // 257: 12
+                               0x16, 1,  3,  0, 1, 0, 0, 0, 0xFF, 0xFF, 0, 0,          // 278: 65535
+                               0,   0,   0,  0};
+  EXPECT_NE(Refusal(tiff).find("the TIFF declares strips of 65535 rows of 12090 pixels"), std::string::npos)
+      << Refusal(tiff);
+  tiff[42] = 0x80;  // 384 rows a strip: 4.6 Mpx, as an image may be.
+  tiff[43] = 0x01;
+  EXPECT_EQ(ReadImageHeader(tiff, "strips.tif").width, 12090u);
+  tiff[42] = tiff[43] = tiff[44] = tiff[45] = 0xFF;  // 2^32 - 1 (as LONG): one strip of the whole image.
+  tiff[36] = 4;
+  EXPECT_EQ(ReadImageHeader(tiff, "one_strip.tif").height, 12u);
+  // The same entry as TileWidth, with no TileLength: a tile of no pixels.
+  tiff[34] = 0x42;
+  EXPECT_NE(Refusal(tiff).find("tiles of 4294967295x0 pixels"), std::string::npos) << Refusal(tiff);
+}
+
 // Kept from fuzzing: "BM", then a PNG's IHDR where the BMP header is: 2.3 GB asked of the decoder.
 TEST(ImageHeader, AForgedBmpHeaderAsksNothing) {
   const std::vector<uint8_t> bytes = {0x42, 0x4d, 0x9f, 0xff, 0xda, 0x75, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00,
