@@ -106,7 +106,8 @@ void FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, dou
       const float pz = R(2, 0) * qx[i] + R(2, 1) * qy[i] + R(2, 2) + t.z() * rho[i];
       const float iz = 1.f / pz;
       const float ui = fx * px * iz + cx, vi = fy * py * iz + cy;
-      const bool ok = pz > 1e-6f && ui >= lo && vi >= lo && ui < x_hi && vi < y_hi;
+      // Bitwise: a short-circuit && is control flow, which keeps the loop from vectorising.
+      const bool ok = (pz > 1e-6f) & (ui >= lo) & (vi >= lo) & (ui < x_hi) & (vi < y_hi);
       valid[i] = ok ? 1.f : 0.f;
       u[i] = ok ? ui : lo;
       v[i] = ok ? vi : lo;
