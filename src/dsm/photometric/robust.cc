@@ -31,8 +31,13 @@ constexpr double kMaxNu = 200.0;
 // The degrees of freedom kept within [robust.min_nu, kMaxNu].
 double ClampNu(double nu, const RobustOptions& options) { return std::clamp(nu, options.min_nu, kMaxNu); }
 
+// Boost promotes double to long double by default (x87 arithmetic, several times slower); the fits
+// call the t's CDF in every likelihood evaluation, and double is ample for them.
+using DoublePolicy = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
+using StudentT = boost::math::students_t_distribution<double, DoublePolicy>;
+
 double TQuantileThreshold(double nu, double sigma, double quantile) {
-  const boost::math::students_t dist(nu);
+  const StudentT dist(nu);
   return sigma * boost::math::quantile(dist, quantile);
 }
 
@@ -75,7 +80,7 @@ ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, con
   const auto nll = [&](const Eigen::VectorXd& x) {
     const double nu = ClampNu(std::exp(x(0)), options);
     const double sigma = std::exp(x(1));
-    const double mass = 2.0 * boost::math::cdf(boost::math::students_t(nu), cut / sigma) - 1.0;
+    const double mass = 2.0 * boost::math::cdf(StudentT(nu), cut / sigma) - 1.0;
     return StudentTNegLogLikelihood(kept, nu, sigma) + n_kept * std::log(std::max(mass, 1e-300));
   };
   NelderMeadOptions nm;

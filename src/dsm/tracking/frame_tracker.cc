@@ -12,6 +12,7 @@
 
 #include "dsm/util/check.h"
 #include "dsm/util/median.h"
+#include "dsm/util/simd.h"
 
 namespace dsm {
 
@@ -78,6 +79,96 @@ namespace {
 constexpr size_t kChunk = 2048;
 size_t NumChunks(size_t n) { return (n + kChunk - 1) / kChunk; }
 
+using Vector8f = Eigen::Matrix<float, 8, 1>;
+using Matrix8f = Eigen::Matrix<float, 8, 8>;
+
+// The pose and camera of one evaluation, and the box [lo, x_hi) x [lo, y_hi) a pixel must land in
+// (bilinear sampling 2 px inside the frame).
+struct Projection {
+  Eigen::Matrix3f R;
+  Eigen::Vector3f t;
+  float fx, fy, cx, cy;
+  float lo, x_hi, y_hi;
+};
+
+// Pixels [begin, end): p = R q + t rho (q_z = 1), u = pi(p); out-of-view pixels go to (lo, lo).
+DSM_SIMD_CLONES void ProjectAndSample(const Projection& pr, const float* qx, const float* qy, const float* rho,
+                                      size_t begin, size_t end, float* u, float* v, float* valid) {
+  const float R00 = pr.R(0, 0), R01 = pr.R(0, 1), R02 = pr.R(0, 2), R10 = pr.R(1, 0), R11 = pr.R(1, 1),
+              R12 = pr.R(1, 2), R20 = pr.R(2, 0), R21 = pr.R(2, 1), R22 = pr.R(2, 2);
+  const float tx = pr.t.x(), ty = pr.t.y(), tz = pr.t.z();
+#pragma omp simd
+  for (size_t i = begin; i < end; ++i) {
+    const float px = R00 * qx[i] + R01 * qy[i] + R02 + tx * rho[i];
+    const float py = R10 * qx[i] + R11 * qy[i] + R12 + ty * rho[i];
+    const float pz = R20 * qx[i] + R21 * qy[i] + R22 + tz * rho[i];
+    const float iz = 1.f / pz;
+    const float ui = pr.fx * px * iz + pr.cx, vi = pr.fy * py * iz + pr.cy;
+    // Bitwise: a short-circuit && is control flow, which keeps the loop from vectorising.
+    const bool ok = (pz > 1e-6f) & (ui >= pr.lo) & (vi >= pr.lo) & (ui < pr.x_hi) & (vi < pr.y_hi);
+    valid[i] = ok ? 1.f : 0.f;
+    u[i] = ok ? ui : pr.lo;
+    v[i] = ok ? vi : pr.lo;
+  }
+}
+
+// r = I_f(u) - e^alpha I_r - beta at the projected pixels (0 where out of view).
+DSM_SIMD_CLONES void SampleResiduals(const ImagePyramid& frame, int l, const float* u, const float* v,
+                                     const float* valid, const Vector8f* g, float ea, float fb, size_t begin,
+                                     size_t end, float* r) {
+  for (size_t i = begin; i < end; ++i) r[i] = valid[i] * (frame.SampleValue(l, u[i], v[i]) - ea * g[i](6) - fb);
+}
+
+// The t's energy terms over the valid pixels: log(1 + rw^2 inv) and rw^2 (rw = sqrt(w_g) r), the
+// count and how many lie beyond the threshold (rw^2 > t2).
+struct EnergySums {
+  double log_terms = 0.0, sum_sq = 0.0, bad = 0.0, count = 0.0;
+};
+DSM_SIMD_CLONES EnergySums SumTEnergy(const float* sw, const float* r, const float* valid, size_t n, float inv,
+                                      float t2) {
+  // Terms in single precision, sums in double (steps near convergence change the energy by less
+  // than a float sum resolves), vectorised: the order of a SIMD reduction is fixed for a build.
+  double energy = 0.0, sum_sq = 0.0, bad = 0.0, count = 0.0;
+#pragma omp simd reduction(+ : energy, sum_sq, bad, count)
+  for (size_t i = 0; i < n; ++i) {
+    const float rw = sw[i] * r[i], rw2 = rw * rw;
+    sum_sq += rw2;
+    energy += valid[i] * FastLog1p(rw2 * inv);
+    bad += valid[i] * (rw2 > t2 ? 1.f : 0.f);
+    count += valid[i];
+  }
+  return {energy, sum_sq, bad, count};
+}
+
+// sum_k w_k g_k g_k^T and sum_k w_k g_k r_k over pixels [begin, end), in single precision, with
+// w_k = w_g w_rho(sqrt(w_g) r); the t's weight (nu + 1) / (nu sigma^2 + r^2) in single precision.
+DSM_SIMD_CLONES void AccumulateSystem(const float* r, const float* valid, const float* grad_weight,
+                                      const float* sqrt_grad_weight, const Vector8f* g, const ErrorModel& model,
+                                      size_t begin, size_t end, Matrix8f* H, Vector8f* b) {
+  const bool t = model.kind == RobustKind::kStudentT;
+  const float nu1 = static_cast<float>(model.nu + 1.0), nus2 = static_cast<float>(model.nu * model.sigma * model.sigma);
+  // Plain arrays, column j of H += (w g) g_j: Eigen's outer product is a call per pixel in a clone.
+  alignas(32) float Hc[64] = {};
+  alignas(32) float bc[8] = {};
+  for (size_t i = begin; i < end; ++i) {
+    if (valid[i] == 0.f) continue;
+    const float rw = sqrt_grad_weight[i] * r[i];
+    const float w = grad_weight[i] * (t ? nu1 / (nus2 + rw * rw) : static_cast<float>(model.Weight(rw)));
+    const float* gi = g[i].data();
+    alignas(32) float wg[8];
+#pragma omp simd
+    for (int k = 0; k < 8; ++k) wg[k] = w * gi[k];
+    for (int j = 0; j < 8; ++j) {
+#pragma omp simd
+      for (int k = 0; k < 8; ++k) Hc[8 * j + k] += wg[k] * gi[j];
+    }
+#pragma omp simd
+    for (int k = 0; k < 8; ++k) bc[k] += wg[k] * r[i];
+  }
+  *H = Eigen::Map<const Matrix8f>(Hc);
+  *b = Eigen::Map<const Vector8f>(bc);
+}
+
 }  // namespace
 
 void FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, double alpha, double beta,
@@ -88,32 +179,17 @@ void FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, dou
   const float fx = static_cast<float>(level.camera.fx), fy = static_cast<float>(level.camera.fy);
   const float cx = static_cast<float>(level.camera.cx), cy = static_cast<float>(level.camera.cy);
   const float ea = static_cast<float>(std::exp(alpha)), fb = static_cast<float>(beta);
-  // Bilinear sampling 2 px inside the frame: x in [2, width - 3).
-  const float lo = 2.f, x_hi = frame.width(l) - 3.f, y_hi = frame.height(l) - 3.f;
   const size_t n = level.qx.size();
   out->r.resize(n);
   out->valid.resize(n);
   out->u.resize(n);
   out->v.resize(n);
+  const Projection projection{R, t, fx, fy, cx, cy, 2.f, frame.width(l) - 3.f, frame.height(l) - 3.f};
   const auto pass = [&](size_t begin, size_t end) {
-    const float *qx = level.qx.data(), *qy = level.qy.data(), *rho = level.idepth.data();
-    float *u = out->u.data(), *v = out->v.data(), *valid = out->valid.data(), *r = out->r.data();
-    // Projection, p = R q + t rho (q_z = 1), vectorised; out-of-view pixels go to (lo, lo).
-#pragma omp simd
-    for (size_t i = begin; i < end; ++i) {
-      const float px = R(0, 0) * qx[i] + R(0, 1) * qy[i] + R(0, 2) + t.x() * rho[i];
-      const float py = R(1, 0) * qx[i] + R(1, 1) * qy[i] + R(1, 2) + t.y() * rho[i];
-      const float pz = R(2, 0) * qx[i] + R(2, 1) * qy[i] + R(2, 2) + t.z() * rho[i];
-      const float iz = 1.f / pz;
-      const float ui = fx * px * iz + cx, vi = fy * py * iz + cy;
-      // Bitwise: a short-circuit && is control flow, which keeps the loop from vectorising.
-      const bool ok = (pz > 1e-6f) & (ui >= lo) & (vi >= lo) & (ui < x_hi) & (vi < y_hi);
-      valid[i] = ok ? 1.f : 0.f;
-      u[i] = ok ? ui : lo;
-      v[i] = ok ? vi : lo;
-    }
-    for (size_t i = begin; i < end; ++i)
-      r[i] = valid[i] * (frame.SampleValue(l, u[i], v[i]) - ea * level.g[i](6) - fb);
+    ProjectAndSample(projection, level.qx.data(), level.qy.data(), level.idepth.data(), begin, end, out->u.data(),
+                     out->v.data(), out->valid.data());
+    SampleResiduals(frame, l, out->u.data(), out->v.data(), out->valid.data(), level.g.data(), ea, fb, begin, end,
+                    out->r.data());
   };
   if (n <= kChunk) return pass(0, n);
   tbb::parallel_for(size_t{0}, NumChunks(n), [&](size_t c) { pass(c * kChunk, std::min(n, (c + 1) * kChunk)); });
@@ -126,21 +202,12 @@ FrameTracker::Energy FrameTracker::SumEnergy(int l, const Residuals& res, const 
   const float* valid = res.valid.data();
   const float* sw = level.sqrt_grad_weight.data();
   const float threshold = static_cast<float>(model.inlier_threshold);
-  // Terms in single precision, sums in double (steps near convergence change the energy by less
-  // than a float sum resolves), vectorised: the order of a SIMD reduction is fixed for a build.
   double energy = 0.0, sum_sq = 0.0, bad = 0.0, count = 0.0;
   if (model.kind == RobustKind::kStudentT) {
     // rho(rw) = (nu + 1)/2 log(1 + rw^2 / (nu sigma^2)): the logs summed, the factor applied once.
     const float inv = static_cast<float>(1.0 / (model.nu * model.sigma * model.sigma));
-    const float t2 = threshold * threshold;
-#pragma omp simd reduction(+ : energy, sum_sq, bad, count)
-    for (size_t i = 0; i < n; ++i) {
-      const float rw = sw[i] * r[i], rw2 = rw * rw;
-      sum_sq += rw2;
-      energy += valid[i] * FastLog1p(rw2 * inv);
-      bad += valid[i] * (rw2 > t2 ? 1.f : 0.f);
-      count += valid[i];
-    }
+    const EnergySums sums = SumTEnergy(sw, r, valid, n, inv, threshold * threshold);
+    energy = sums.log_terms, sum_sq = sums.sum_sq, bad = sums.bad, count = sums.count;
     energy *= 0.5 * (model.nu + 1.0);
   } else {
     for (size_t i = 0; i < n; ++i) {
@@ -166,23 +233,9 @@ FrameTracker::System8 FrameTracker::SumSystem(int l, const Residuals& res, const
   // sum_k w_k g_k g_k^T and sum_k w_k g_k r_k per chunk, in single precision.
   std::vector<Eigen::Matrix<float, 8, 8>, Eigen::aligned_allocator<Eigen::Matrix<float, 8, 8>>> H(NumChunks(n));
   std::vector<Vector8f, Eigen::aligned_allocator<Vector8f>> b(NumChunks(n));
-  const bool t = model.kind == RobustKind::kStudentT;
-  const float nu1 = static_cast<float>(model.nu + 1.0), nus2 = static_cast<float>(model.nu * model.sigma * model.sigma);
   const auto pass = [&](size_t c) {
-    Eigen::Matrix<float, 8, 8> Hc = Eigen::Matrix<float, 8, 8>::Zero();
-    Vector8f bc = Vector8f::Zero();
-    for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
-      if (res.valid[i] == 0.f) continue;
-      const float r = res.r[i];
-      const float rw = level.sqrt_grad_weight[i] * r;
-      // w_g w_rho(sqrt(w_g) r); the t's weight (nu + 1) / (nu sigma^2 + r^2) in single precision.
-      const float w = level.grad_weight[i] * (t ? nu1 / (nus2 + rw * rw) : static_cast<float>(model.Weight(rw)));
-      const Vector8f wg = w * level.g[i];
-      Hc.noalias() += wg * level.g[i].transpose();
-      bc += wg * r;
-    }
-    H[c] = Hc;
-    b[c] = bc;
+    AccumulateSystem(res.r.data(), res.valid.data(), level.grad_weight.data(), level.sqrt_grad_weight.data(),
+                     level.g.data(), model, c * kChunk, std::min(n, (c + 1) * kChunk), &H[c], &b[c]);
   };
   if (n <= kChunk) {
     if (n > 0) pass(0);

@@ -18,6 +18,7 @@
 // iteration only the weights and residuals change. Each evaluation projects and samples every
 // pixel once; the energy decides whether a step is taken, and the sums are formed only then
 // (single precision within fixed chunks, added in double in chunk order: deterministic).
+// The per-pixel loops are compiled for AVX2 as well, picked at load time (util/simd.h).
 #pragma once
 
 #include <limits>
