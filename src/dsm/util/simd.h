@@ -7,8 +7,9 @@
 // program (compiling the whole program for the host, -march=native, changes Eigen's alignment and
 // breaks against the system's prebuilt Eigen-based libraries). With ISO C++ floating-point
 // contraction is off: the clones compute the same element-wise values; only reductions may add
-// in another order (the shared EuRoC frames come out byte-identical either way). Off x86-64, and
-// with the CMake option DSM_SIMD_CLONES=OFF (one baseline build, e.g. to compare against).
+// in another order (the shared EuRoC frames come out byte-identical either way). Off x86-64, in
+// sanitizer builds (their runtime is not up when the loader picks a clone), and with the CMake
+// option DSM_SIMD_CLONES=OFF (one baseline build, e.g. to compare against).
 #pragma once
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(DSM_NO_SIMD_CLONES)
