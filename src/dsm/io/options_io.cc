@@ -29,6 +29,9 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["system.young_map_ba_first"] = Set(&o->young_map_ba_first);
   s["system.young_map_ba_last"] = Set(&o->young_map_ba_last);
   s["system.young_map_ba_step"] = Set(&o->young_map_ba_step);
+  s["system.loop_ba_min_gap"] = Set(&o->loop_ba_min_gap);
+  s["system.loop_ba_max_keyframes"] = Set(&o->loop_ba_max_keyframes);
+  s["system.loop_ba_max_iterations"] = Set(&o->loop_ba_max_iterations);
   s["initializer.max_corners"] = Set(&o->initializer.max_corners);
   s["initializer.min_parallax_deg"] = Set(&o->initializer.min_parallax_deg);
   s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);

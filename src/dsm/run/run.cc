@@ -161,6 +161,7 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     append(&all.mapping_ms, s.mapping_ms);
     append(&all.pba_ms, s.pba_ms);
     append(&all.young_map_ba_ms, s.young_map_ba_ms);
+    append(&all.loop_ba_ms, s.loop_ba_ms);
     all.points_created += s.points_created;
     all.reobservations += s.reobservations;
     all.covisible_keyframes_selected += s.covisible_keyframes_selected;
@@ -361,6 +362,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                                      {"iterations", k.pba_iterations}, {"ms", k.pba_ms}}}});
     if (k.young_map_ba_keyframes > 0)
       per_keyframe.back()["young_map_ba"] = {{"keyframes", k.young_map_ba_keyframes}, {"ms", k.young_map_ba_ms}};
+    if (k.loop_ba_keyframes > 0)
+      per_keyframe.back()["loop_ba"] = {{"keyframes", k.loop_ba_keyframes}, {"ms", k.loop_ba_ms}};
     created.push_back(k.points_created);
   }
   summary.stats = {
@@ -386,7 +389,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"per_frame", per_frame},
       {"timing_ms", {{"tracking", TimingStats(s.tracking_ms)}, {"tracing", TimingStats(s.tracing_ms)},
                      {"mapping", TimingStats(s.mapping_ms)}, {"pba", TimingStats(s.pba_ms)},
-                     {"young_map_ba", TimingStats(s.young_map_ba_ms)}}},
+                     {"young_map_ba", TimingStats(s.young_map_ba_ms)}, {"loop_ba", TimingStats(s.loop_ba_ms)}}},
   };
   if (options.global_ba) summary.stats["timing_ms"]["global_ba"] = s.global_ba_ms;
   summary.stats["pace"] = PaceName(options.pace);

@@ -79,6 +79,17 @@ struct SystemOptions {
   int young_map_ba_first = 10;
   int young_map_ba_last = 0;
   int young_map_ba_step = 0;  // > 0: every this many keyframes from young_map_ba_first instead of doubling.
+  // A bundle adjustment of the loop when the camera comes back (--mode dsm): when the new
+  // keyframe's covisible keyframes reach at least loop_ba_min_gap keyframes back, the keyframes
+  // after the oldest of them are adjusted (the newest loop_ba_max_keyframes at most), the
+  // covisible ones and all before held, with loop_ba_max_iterations LM iterations per level (0:
+  // as pba.max_iterations); at most once every loop_ba_min_gap keyframes, after the window's own
+  // adjustment (before the keyframe is published). The window alone moves only its own keyframes onto the old
+  // map, and what drifted over the loop stays (a final --global-ba shows the map holds what
+  // corrects it). Off (0) by default: each costs 0.3-8 s (README, The loop).
+  int loop_ba_min_gap = 0;
+  int loop_ba_max_keyframes = 120;
+  int loop_ba_max_iterations = 0;  // Per level; 0: as pba.max_iterations.
   InitializerOptions initializer;
   TrackerOptions tracker;
   CandidateSelectorOptions candidates;

@@ -57,5 +57,18 @@ TEST(SystemOptions, RejectsAYoungMapScheduleThatNeverGrows) {
   EXPECT_THROW(options.Validate(), InputError);
 }
 
+TEST(SystemOptions, RejectsALoopAdjustmentWithoutABound) {
+  SystemOptions options;
+  options.loop_ba_min_gap = -1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.loop_ba_min_gap = 20;
+  EXPECT_NO_THROW(options.Validate());
+  options.loop_ba_max_keyframes = 1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.loop_ba_max_keyframes = 120;
+  options.loop_ba_max_iterations = -1;
+  EXPECT_THROW(options.Validate(), InputError);
+}
+
 }  // namespace
 }  // namespace dsm

@@ -78,6 +78,7 @@ struct SystemStats {
   std::vector<double> mapping_ms;   // Per keyframe: everything the mapping side does to it.
   std::vector<double> pba_ms;       // Per keyframe.
   std::vector<double> young_map_ba_ms;  // Per young-map bundle adjustment.
+  std::vector<double> loop_ba_ms;       // Per loop bundle adjustment.
   int points_created = 0;           // Initial points and activated candidates.
   int reobservations = 0;           // Observations created for points hosted outside the temporal window.
   int covisible_keyframes_selected = 0;  // Summed over keyframes.
@@ -94,6 +95,8 @@ struct SystemStats {
     // its keyframes and time.
     int young_map_ba_keyframes = 0;
     double young_map_ba_ms = 0.0;
+    int loop_ba_keyframes = 0;  // Keyframes the loop bundle adjustment after this one freed (0: none).
+    double loop_ba_ms = 0.0;
     int observations_removed = 0;  // Marked outliers after its bundle adjustment.
     int points_culled = 0;         // Removed after its bundle adjustment.
     // Tracking of the frame that became this keyframe (0 for the first two).
@@ -302,6 +305,9 @@ class System {
   void MapNewKeyframe(int kf);
   // One bundle adjustment of every keyframe (keyframe 0 fixed) and point.
   PbaSummary AdjustWholeMap();
+  // The loop bundle adjustment (SystemOptions::loop_ba_min_gap) after keyframe `newest`'s window
+  // adjustment, when due.
+  void AdjustLoop(int newest);
   // What the tracking reference does not need, done after it is published: kf's candidates (traced
   // in the frames that follow) and the release of pyramids no longer used.
   void FinishKeyframe(int kf);
@@ -325,6 +331,7 @@ class System {
   Map map_;
   std::vector<int> window_;     // Temporal window, oldest first.
   std::vector<int> covisible_; // Covisible part of the window (DSM mode).
+  int last_loop_ba_ = -1;       // Keyframe after which the last loop bundle adjustment ran.
   std::vector<Eigen::Vector2f> old_pixels_;  // Newest-keyframe pixels of old, unselected map points.
   std::map<int, std::vector<Candidate>> candidates_;
   float min_activation_distance_px_;

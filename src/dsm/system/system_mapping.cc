@@ -105,8 +105,31 @@ void System::MapNewKeyframe(int kf) {
     log.young_map_ba_ms = AdjustWholeMap().time_ms;
     stats_.young_map_ba_ms.push_back(log.young_map_ba_ms);
   }
+  AdjustLoop(kf);
   log.points_culled = CullPoints();
   PublishTrackingReference();
+}
+
+void System::AdjustLoop(int newest) {
+  const int gap = options_.loop_ba_min_gap;
+  if (gap == 0 || options_.mode != MapMode::kFull || covisible_.empty()) return;
+  if (last_loop_ba_ >= 0 && newest - last_loop_ba_ < gap) return;
+  const int oldest = *std::min_element(covisible_.begin(), covisible_.end());
+  if (newest - oldest < gap) return;
+  // Free: the keyframes after the oldest covisible one (at most loop_ba_max_keyframes, the
+  // newest), but the covisible ones; held: those and the oldest.
+  const int first = std::max(oldest + 1, newest + 1 - options_.loop_ba_max_keyframes);
+  std::vector<int> keyframes = covisible_, held = covisible_;
+  for (int k = first; k <= newest; ++k)
+    if (std::find(covisible_.begin(), covisible_.end(), k) == covisible_.end()) keyframes.push_back(k);
+  PbaOptions pba_options = options_.pba;
+  if (options_.loop_ba_max_iterations > 0) pba_options.max_iterations = options_.loop_ba_max_iterations;
+  const PbaSummary pba = RunPba(&map_, camera_, keyframes, pba_options, held);
+  last_loop_ba_ = newest;
+  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  log.loop_ba_keyframes = static_cast<int>(keyframes.size() - held.size());
+  log.loop_ba_ms = pba.time_ms;
+  stats_.loop_ba_ms.push_back(pba.time_ms);
 }
 
 void System::FinishKeyframe(int kf) {
