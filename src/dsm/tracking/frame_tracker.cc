@@ -92,7 +92,7 @@ struct Projection {
 };
 
 // Pixels [begin, end): p = R q + t rho (q_z = 1), u = pi(p); out-of-view pixels go to (lo, lo).
-DSM_SIMD_CLONES void ProjectAndSample(const Projection& pr, const float* qx, const float* qy, const float* rho,
+DSM_SIMD_CLONES void ProjectPixels(const Projection& pr, const float* qx, const float* qy, const float* rho,
                                       size_t begin, size_t end, float* u, float* v, float* valid) {
   const float R00 = pr.R(0, 0), R01 = pr.R(0, 1), R02 = pr.R(0, 2), R10 = pr.R(1, 0), R11 = pr.R(1, 1),
               R12 = pr.R(1, 2), R20 = pr.R(2, 0), R21 = pr.R(2, 1), R22 = pr.R(2, 2);
@@ -186,7 +186,7 @@ void FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, dou
   out->v.resize(n);
   const Projection projection{R, t, fx, fy, cx, cy, 2.f, frame.width(l) - 3.f, frame.height(l) - 3.f};
   const auto pass = [&](size_t begin, size_t end) {
-    ProjectAndSample(projection, level.qx.data(), level.qy.data(), level.idepth.data(), begin, end, out->u.data(),
+    ProjectPixels(projection, level.qx.data(), level.qy.data(), level.idepth.data(), begin, end, out->u.data(),
                      out->v.data(), out->valid.data());
     SampleResiduals(frame, l, out->u.data(), out->v.data(), out->valid.data(), level.g.data(), ea, fb, begin, end,
                     out->r.data());
