@@ -93,7 +93,7 @@ struct Projection {
 
 // Pixels [begin, end): p = R q + t rho (q_z = 1), u = pi(p); out-of-view pixels go to (lo, lo).
 DSM_SIMD_CLONES void ProjectPixels(const Projection& pr, const float* qx, const float* qy, const float* rho,
-                                      size_t begin, size_t end, float* u, float* v, float* valid) {
+                                   size_t begin, size_t end, float* u, float* v, float* valid) {
   const float R00 = pr.R(0, 0), R01 = pr.R(0, 1), R02 = pr.R(0, 2), R10 = pr.R(1, 0), R11 = pr.R(1, 1),
               R12 = pr.R(1, 2), R20 = pr.R(2, 0), R21 = pr.R(2, 1), R22 = pr.R(2, 2);
   const float tx = pr.t.x(), ty = pr.t.y(), tz = pr.t.z();
@@ -187,7 +187,7 @@ void FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, dou
   const Projection projection{R, t, fx, fy, cx, cy, 2.f, frame.width(l) - 3.f, frame.height(l) - 3.f};
   const auto pass = [&](size_t begin, size_t end) {
     ProjectPixels(projection, level.qx.data(), level.qy.data(), level.idepth.data(), begin, end, out->u.data(),
-                     out->v.data(), out->valid.data());
+                  out->v.data(), out->valid.data());
     SampleResiduals(frame, l, out->u.data(), out->v.data(), out->valid.data(), level.g.data(), ea, fb, begin, end,
                     out->r.data());
   };
@@ -231,7 +231,7 @@ FrameTracker::System8 FrameTracker::SumSystem(int l, const Residuals& res, const
   const LevelData& level = levels_[l];
   const size_t n = res.r.size();
   // sum_k w_k g_k g_k^T and sum_k w_k g_k r_k per chunk, in single precision.
-  std::vector<Eigen::Matrix<float, 8, 8>, Eigen::aligned_allocator<Eigen::Matrix<float, 8, 8>>> H(NumChunks(n));
+  std::vector<Matrix8f, Eigen::aligned_allocator<Matrix8f>> H(NumChunks(n));
   std::vector<Vector8f, Eigen::aligned_allocator<Vector8f>> b(NumChunks(n));
   const auto pass = [&](size_t c) {
     AccumulateSystem(res.r.data(), res.valid.data(), level.grad_weight.data(), level.sqrt_grad_weight.data(),
