@@ -179,7 +179,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   if (reason.empty() && lost_) {
     // Only a frame with the usual texture may re-anchor the camera: half of it hidden by a hand
     // sliding off the lens, any pose fits the rest as well as the right one.
-    reason = quality_.CheckRelocalisationImage(signature.texture);
+    reason = quality_.CheckRelocalisationImage(signature.texture, reference_->texture);
     if (reason.empty()) {
       Tentative before = SaveTentative(index);
       report.relocalised = Relocalise(index, *pyramid, signature, exposure, &result, &relocalised_velocity, &reason);

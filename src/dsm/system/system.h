@@ -221,6 +221,7 @@ class System {
     std::vector<AffineBrightness> affine;
     std::vector<double> exposure;
     int map_points = 0;  // Live points of the map then.
+    double texture = 0.0;  // The keyframe's (FrameSignature::texture).
     std::shared_ptr<const MapSnapshot> snapshot;  // With SystemOptions::map_snapshots.
   };
 

@@ -335,6 +335,7 @@ std::shared_ptr<const System::TrackingReference> System::MakeReference(
     ref->exposure.push_back(map_.keyframe(k).exposure);
   }
   ref->map_points = map_.NumLivePoints();
+  ref->texture = map_.keyframe(kf).signature.texture;
   if (options_.map_snapshots) {
     auto snapshot = std::make_shared<MapSnapshot>();
     snapshot->points = LivePoints(map_, camera_);

@@ -63,9 +63,11 @@ bool TrackingQuality::CheckKeyframeImage(double texture, double previous) const 
   return texture >= options_.min_keyframe_texture_step * previous;
 }
 
-std::string TrackingQuality::CheckRelocalisationImage(double texture) const {
-  if (BelowTextureLevel(texture, options_.min_relocalisation_texture_ratio))
-    return Format("too little texture to relocalise (%.2f, usual %.2f)", texture, TextureLevel());
+std::string TrackingQuality::CheckRelocalisationImage(double texture, double keyframe_texture) const {
+  if (static_cast<int>(texture_.size()) < options_.history) return {};
+  const double level = keyframe_texture > 0.0 ? std::min(TextureLevel(), keyframe_texture) : TextureLevel();
+  if (texture < options_.min_relocalisation_texture_ratio * level)
+    return Format("too little texture to relocalise (%.2f, usual %.2f)", texture, level);
   return {};
 }
 
