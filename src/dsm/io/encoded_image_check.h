@@ -17,4 +17,8 @@ namespace dsm {
 // Empty when the bytes look intact, else why not (e.g. "truncated: no IEND chunk").
 std::string CheckEncodedImage(const std::vector<uint8_t>& bytes);
 
+// CRC-32 as PNG uses it (ISO-HDLC: reflected polynomial 0xEDB88320, initial and final XOR
+// 0xFFFFFFFF); "123456789" gives 0xCBF43926.
+uint32_t Crc32(const uint8_t* data, size_t size);
+
 }  // namespace dsm
