@@ -30,6 +30,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["system.young_map_ba_last"] = Set(&o->young_map_ba_last);
   s["system.young_map_ba_step"] = Set(&o->young_map_ba_step);
   s["system.loop_ba_min_gap"] = Set(&o->loop_ba_min_gap);
+  s["system.loop_ba_after_relocalisation"] = Set(&o->loop_ba_after_relocalisation);
   s["system.loop_ba_max_keyframes"] = Set(&o->loop_ba_max_keyframes);
   s["system.loop_ba_max_iterations"] = Set(&o->loop_ba_max_iterations);
   s["initializer.max_corners"] = Set(&o->initializer.max_corners);

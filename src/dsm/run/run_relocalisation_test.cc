@@ -59,7 +59,8 @@ TEST(Relocalisation, DefectsCostTheirFramesOnly) {
   EXPECT_EQ(s.stats["frames_skipped"], 1);
   ExpectDefectsCostTheirFramesOnly(OpenDataset(bad), s, out, {{200, 214}, {300, 314}, {400, 440, true}}, "loop");
   ASSERT_TRUE(s.eval && c.eval);
-  EXPECT_LE(KeyframeAte(s), 3.0 * KeyframeAte(c));
+  // Issue #15's bound. Before the loop adjustment after a relocalisation: 1.46 against 0.58 mm.
+  EXPECT_LE(KeyframeAte(s), 1.5 * KeyframeAte(c));
 }
 
 // 160 frames of `loop` at 320x240 with the same kinds of defect. Two failures before: the guesses

@@ -39,6 +39,8 @@ void SystemOptions::Validate() const {
   if (young_map_ba_last < 0) throw InputError("system.young_map_ba_last must be non-negative (0: none)");
   if (young_map_ba_step < 0) throw InputError("system.young_map_ba_step must be non-negative (0: doubling)");
   if (loop_ba_min_gap < 0) throw InputError("system.loop_ba_min_gap must be non-negative (0: none)");
+  if (loop_ba_after_relocalisation < 0)
+    throw InputError("system.loop_ba_after_relocalisation must be non-negative (0: never)");
   if (loop_ba_max_keyframes < 2) throw InputError("system.loop_ba_max_keyframes must be at least 2");
   if (loop_ba_max_iterations < 0) throw InputError("system.loop_ba_max_iterations must be non-negative (0: as pba)");
   if (tracker.levels > pyramid_levels) throw InputError("tracker.levels cannot exceed pyramid_levels");

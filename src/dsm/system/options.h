@@ -88,6 +88,12 @@ struct SystemOptions {
   // onto the old map, and what drifted over the loop stays (a final --global-ba shows the map
   // holds what corrects it). Off (0) by default: each costs 0.3-8 s (README, The loop).
   int loop_ba_min_gap = 0;
+  // The same adjustment once after a relocalisation, at the first keyframe whose covisible
+  // keyframes reach this many back (0: never). Tracking lost and regained is the map's weakest
+  // link: the part after it joins the part before through one relocalised pose (`loop` with
+  // defects: the scale after the first loss runs 0.2% high, and the lap's two parts disagree when
+  // the camera comes back). A recording without losses never pays for it.
+  int loop_ba_after_relocalisation = 20;
   int loop_ba_max_keyframes = 120;
   int loop_ba_max_iterations = 0;  // Per level; 0: as pba.max_iterations.
   InitializerOptions initializer;

@@ -68,6 +68,11 @@ TEST(SystemOptions, RejectsALoopAdjustmentWithoutABound) {
   options.loop_ba_max_keyframes = 120;
   options.loop_ba_max_iterations = -1;
   EXPECT_THROW(options.Validate(), InputError);
+  options.loop_ba_max_iterations = 0;
+  options.loop_ba_after_relocalisation = -1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.loop_ba_after_relocalisation = 0;
+  EXPECT_NO_THROW(options.Validate());
 }
 
 }  // namespace

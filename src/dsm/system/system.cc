@@ -231,6 +231,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   job.frame_from_reference = result.frame_from_keyframe;
   job.alpha = result.alpha;
   job.beta = result.beta;
+  job.relocalisations = stats_.relocalisations;
   want_keyframe_ = false;
   if (ShouldCreateKeyframe(scores, options_.keyframe) && quality_.CheckKeyframeImage(signature.texture, previous_texture)) {
     if (mapping_thread_ && (mapping_thread_->KeyframesPending() > 0 || ReferenceIsStale())) {
@@ -286,6 +287,10 @@ void System::RunJob(const MappingJob& job) {
   const auto t0 = std::chrono::steady_clock::now();
   TraceCandidates(*job.pyramid, job.reference, job.frame_from_reference, job.alpha, job.beta, job.exposure);
   stats_.tracing_ms.push_back(MsSince(t0));
+  if (job.relocalisations > relocalisations_mapped_) {
+    relocalisations_mapped_ = job.relocalisations;
+    loop_ba_pending_ = true;
+  }
   if (job.keyframe < 0) return;
   // Tracking resumed against an older keyframe (relocalisation): it rejoins the temporal window,
   // with its points, so that the new keyframe is mapped against the part of the map it sees.

@@ -209,6 +209,7 @@ class System {
     int keyframe = -1;  // Its keyframe id when it becomes one.
     ErrorModel model;   // Fitted to its tracking residuals.
     double rmse = 0.0, inlier_ratio = 0.0;
+    int relocalisations = 0;  // Confirmed on the tracking side before this frame.
   };
   // What tracking needs of its reference keyframe: published by the mapping side once the
   // keyframe is mapped, never changed after.
@@ -306,11 +307,12 @@ class System {
   void MapNewKeyframe(int kf);
   // One bundle adjustment of every keyframe (keyframe 0 fixed) and point.
   PbaSummary AdjustWholeMap();
-  // The loop bundle adjustment (SystemOptions::loop_ba_min_gap) after keyframe `newest`'s window
-  // adjustment, when due.
-  void AdjustLoop(int newest);
+  // The loop bundle adjustment (SystemOptions::loop_ba_min_gap, loop_ba_after_relocalisation)
+  // after keyframe `newest` is published (FinishKeyframe), when due; true when it ran.
+  bool AdjustLoop(int newest);
   // What the tracking reference does not need, done after it is published: kf's candidates (traced
-  // in the frames that follow) and the release of pyramids no longer used.
+  // in the frames that follow), the loop adjustment when due, and the release of pyramids no
+  // longer used.
   void FinishKeyframe(int kf);
   // Candidates activated where no active point seen in `newest` (SeenIn) nor old map point is near.
   void ActivateCandidates(int newest);
@@ -333,6 +335,8 @@ class System {
   std::vector<int> window_;     // Temporal window, oldest first.
   std::vector<int> covisible_; // Covisible part of the window (DSM mode).
   int last_loop_ba_ = -1;       // Keyframe after which the last loop bundle adjustment ran.
+  int relocalisations_mapped_ = 0;  // The tracking side's count as the last job brought it.
+  bool loop_ba_pending_ = false;    // A relocalisation since the last loop bundle adjustment.
   std::vector<Eigen::Vector2f> old_pixels_;  // Newest-keyframe pixels of old, unselected map points.
   std::map<int, std::vector<Candidate>> candidates_;
   float min_activation_distance_px_;

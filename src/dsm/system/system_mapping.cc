@@ -105,17 +105,18 @@ void System::MapNewKeyframe(int kf) {
     log.young_map_ba_ms = AdjustWholeMap().time_ms;
     stats_.young_map_ba_ms.push_back(log.young_map_ba_ms);
   }
-  AdjustLoop(kf);
   log.points_culled = CullPoints();
   PublishTrackingReference();
 }
 
-void System::AdjustLoop(int newest) {
-  const int gap = options_.loop_ba_min_gap;
-  if (gap == 0 || options_.mode != MapMode::kFull || covisible_.empty()) return;
-  if (last_loop_ba_ >= 0 && newest - last_loop_ba_ < gap) return;
+bool System::AdjustLoop(int newest) {
+  if (options_.mode != MapMode::kFull || covisible_.empty()) return false;
   const int oldest = *std::min_element(covisible_.begin(), covisible_.end());
-  if (newest - oldest < gap) return;
+  const int gap = options_.loop_ba_min_gap, after_loss = options_.loop_ba_after_relocalisation;
+  const bool periodic = gap > 0 && newest - oldest >= gap && (last_loop_ba_ < 0 || newest - last_loop_ba_ >= gap);
+  const bool relocalised = loop_ba_pending_ && after_loss > 0 && newest - oldest >= after_loss;
+  if (!periodic && !relocalised) return false;
+  loop_ba_pending_ = false;
   // Free: the keyframes after the oldest covisible one (at most loop_ba_max_keyframes, the
   // newest), but the covisible ones; held: those and the oldest.
   const int first = std::max(oldest + 1, newest + 1 - options_.loop_ba_max_keyframes);
@@ -130,11 +131,16 @@ void System::AdjustLoop(int newest) {
   log.loop_ba_keyframes = static_cast<int>(keyframes.size() - held.size());
   log.loop_ba_ms = pba.time_ms;
   stats_.loop_ba_ms.push_back(pba.time_ms);
+  return true;
 }
 
 void System::FinishKeyframe(int kf) {
   SelectCandidates(kf);
   if (kf == kInitTrackingKeyframe) TrackInitFrames();
+  // The loop adjustment after publication (in the two-thread paces tracking goes on against the
+  // new keyframe meanwhile), then the keyframe published again, adjusted (UpdateReference keeps
+  // the frames' poses relative to it).
+  if (AdjustLoop(kf)) PublishTrackingReference();
   // Keyframes keep their pyramids while a recent mapping step used them.
   map_.ReleaseUnusedPyramids(options_.keep_pyramid_keyframes);
   stats_.pyramids_loaded_max = std::max(stats_.pyramids_loaded_max, map_.NumLoadedPyramids());
