@@ -22,9 +22,9 @@ mkdir -p "$WORK"
 # The renderer's parallel loop runs on TBB's uninstrumented threads: not part of the check.
 [ -f "$WORK/loop/groundtruth.tum" ] ||
   TSAN_OPTIONS=report_bugs=0 "$DSM" synth --scene loop --frames 200 --out "$WORK/loop" >/dev/null
-# The loop adjustment runs after a keyframe's publication while tracking goes on: every 10
+# The loop adjustment runs after a keyframe's publication while tracking goes on: every 5
 # keyframes here (by default only after a relocalisation).
-printf 'system: {loop_ba_min_gap: 10}\n' >"$WORK/loop_ba.yaml"
+printf 'system: {loop_ba_min_gap: 5}\n' >"$WORK/loop_ba.yaml"
 runs=("loop|$WORK/loop|" "loop_ba|$WORK/loop|--config=$WORK/loop_ba.yaml")
 if [ -d "$DATA/euroc_mh01_shake" ]; then runs+=("euroc|$DATA/euroc_mh01_shake|--end 120"); fi
 for entry in "${runs[@]}"; do
