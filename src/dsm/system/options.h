@@ -83,10 +83,11 @@ struct SystemOptions {
   // keyframe's covisible keyframes reach at least loop_ba_min_gap keyframes back, the keyframes
   // after the oldest of them are adjusted (the newest loop_ba_max_keyframes at most), the
   // covisible ones and all before held, with loop_ba_max_iterations LM iterations per level (0:
-  // as pba.max_iterations); at most once every loop_ba_min_gap keyframes, after the window's own
-  // adjustment (before the keyframe is published). The window alone moves only its own keyframes
-  // onto the old map, and what drifted over the loop stays (a final --global-ba shows the map
-  // holds what corrects it). Off (0) by default: each costs 0.3-8 s (README, The loop).
+  // as pba.max_iterations); at most once every loop_ba_min_gap keyframes, after the keyframe is
+  // published (System::FinishKeyframe; it is then published again). The window alone moves only
+  // its own keyframes onto the old map, and what drifted over the loop stays (a final --global-ba
+  // shows the map holds what corrects it). Off (0) by default: each costs 0.3-8 s (README, The
+  // loop).
   int loop_ba_min_gap = 0;
   // The same adjustment once after a relocalisation, at the first keyframe whose covisible
   // keyframes reach this many back (0: never). Tracking lost and regained is the map's weakest
