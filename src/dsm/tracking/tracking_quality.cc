@@ -48,13 +48,13 @@ TrackingQuality::TrackingQuality(const QualityOptions& options) : options_(optio
 double TrackingQuality::ResidualLevel() const { return MedianOf(residual_); }
 double TrackingQuality::TextureLevel() const { return MedianOf(texture_); }
 
-bool TrackingQuality::BelowTextureLevel(double texture, double ratio) const {
-  return static_cast<int>(texture_.size()) >= options_.history && texture < ratio * TextureLevel();
+bool TrackingQuality::BelowTextureLevel(double texture, double ratio, double level) const {
+  return static_cast<int>(texture_.size()) >= options_.history && texture < ratio * level;
 }
 
 std::string TrackingQuality::CheckImage(double texture) const {
   if (!std::isfinite(texture)) return "unusable image";
-  if (BelowTextureLevel(texture, options_.min_texture_ratio))
+  if (BelowTextureLevel(texture, options_.min_texture_ratio, TextureLevel()))
     return Format("too little texture (%.2f, usual %.2f)", texture, TextureLevel());
   return {};
 }
@@ -64,9 +64,8 @@ bool TrackingQuality::CheckKeyframeImage(double texture, double previous) const 
 }
 
 std::string TrackingQuality::CheckRelocalisationImage(double texture, double keyframe_texture) const {
-  if (static_cast<int>(texture_.size()) < options_.history) return {};
   const double level = keyframe_texture > 0.0 ? std::min(TextureLevel(), keyframe_texture) : TextureLevel();
-  if (texture < options_.min_relocalisation_texture_ratio * level)
+  if (BelowTextureLevel(texture, options_.min_relocalisation_texture_ratio, level))
     return Format("too little texture to relocalise (%.2f, usual %.2f)", texture, level);
   return {};
 }

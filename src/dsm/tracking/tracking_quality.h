@@ -104,8 +104,9 @@ class TrackingQuality {
   double TextureLevel() const;  // 0 before the first trusted frame.
 
  private:
-  // Whether the texture level is known (`history` frames) and `texture` is below `ratio` x it.
-  bool BelowTextureLevel(double texture, double ratio) const;
+  // Whether the texture level is known (`history` frames) and `texture` is below `ratio` x
+  // `level` (the level, or a lower one taken for it).
+  bool BelowTextureLevel(double texture, double ratio, double level) const;
 
   QualityOptions options_;
   std::deque<double> residual_, texture_;
