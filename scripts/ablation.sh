@@ -21,8 +21,8 @@
 #            smooth (frames smoothed when the first one is noisy: system.smoothing_sigma -1),
 #            newest-model (only the newest keyframe's error model is fitted, to the residuals of
 #            points hosted by free keyframes, as the original DSM: pba.refit_all_models false),
-#            young-ba (the whole young map bundle-adjusted at 10, 20 and 40 keyframes:
-#            system.young_map_ba_last 40)
+#            no-young-ba (without the whole young map's bundle adjustments at 10, 20 and 40 keyframes:
+#            system.young_map_ba_last 0)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -36,7 +36,7 @@ cd "$(dirname "$0")/.."
 JOBS=1
 SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure orbit euroc room"
-CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor two-view free-sigma smooth newest-model young-ba"
+CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor two-view free-sigma smooth newest-model no-young-ba"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -66,7 +66,7 @@ printf 'initializer:\n  track_from_reference: true\n  refine_motion: true\n' > "
 printf 'pba:\n  max_sigma_ratio: 0\n' > "$WORK/free-sigma.yaml"
 printf 'system:\n  smoothing_sigma: -1\n' > "$WORK/smooth.yaml"
 printf 'pba:\n  refit_all_models: false\n' > "$WORK/newest-model.yaml"
-printf 'system:\n  young_map_ba_last: 40\n' > "$WORK/young-ba.yaml"
+printf 'system:\n  young_map_ba_last: 0\n' > "$WORK/no-young-ba.yaml"
 
 args_for() {
   case "$1" in
@@ -81,7 +81,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | two-view | free-sigma | smooth | newest-model | young-ba) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | two-view | free-sigma | smooth | newest-model | no-young-ba) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac

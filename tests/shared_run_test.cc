@@ -2,11 +2,11 @@
 // End to end on the shared sequences, both modes:
 //   EuRoC MH01 frames: initialised within 20 frames, every later frame tracked, keyframe RMS ATE
 //   (Sim(3)) <= 5 mm for DSM and <= 12 mm for DSM-SW.
-//   Path-traced room walk (blender_room_s3): every frame after the start tracked, DSM <= 8 mm and
-//   below DSM-SW, DSM-SW <= 10 mm (its window: N_t + N_c temporal keyframes). Before occlusions
-//   were handled DSM's scale collapsed there as a pillar passed close to the camera (1066 mm). A
-//   final global bundle adjustment brings the walk to <= 3 mm (measured 3.69 -> 1.29 mm): the map
-//   holds a consistent lap.
+//   Path-traced room walk (blender_room_s3): every frame after the start tracked, DSM <= 2.5 mm
+//   and below DSM-SW, DSM-SW <= 10 mm (its window: N_t + N_c temporal keyframes). Before
+//   occlusions were handled DSM's scale collapsed there as a pillar passed close to the camera
+//   (1066 mm); before the young map's bundle adjustments its scale drifted (3.64 mm). A final
+//   global bundle adjustment still improves the walk, to <= 2 mm (measured 1.83 -> 1.42 mm).
 //   EuRoC frames with defects spliced in (15 black frames, 15 of noise, a corrupt file and a hand
 //   over the lens for 41 frames): no black or noise frame, nor one the hand covers for three
 //   quarters or more, is tracked, and none of them nor a half-covered one becomes a keyframe;
@@ -24,10 +24,10 @@
 namespace dsm {
 namespace {
 
-// Keyframe ATE (m) of both modes, after checking initialisation and tracking.
-std::map<MapMode, double> RunBothModes(const std::string& name, int max_init_frame) {
+// Both modes' runs, after checking initialisation and tracking.
+std::map<MapMode, RunSummary> RunBothModes(const std::string& name, int max_init_frame) {
   const Dataset dataset = OpenDataset(testing::SharedDataDir() / name);
-  std::map<MapMode, double> ate;
+  std::map<MapMode, RunSummary> runs;
   for (const MapMode mode : {MapMode::kSlidingWindow, MapMode::kFull}) {
     RunOptions options;
     options.pace = Pace::kSequential;
@@ -40,39 +40,30 @@ std::map<MapMode, double> RunBothModes(const std::string& name, int max_init_fra
     EXPECT_LE(init, max_init_frame);
     EXPECT_GE(s.stats["frames_tracked"].get<int>(), s.stats["frames"].get<int>() - init);
     EXPECT_TRUE(s.eval.has_value());
-    ate[mode] = s.eval ? (*s.eval)["keyframes"]["ape"]["rmse"].get<double>() : 1e9;
+    runs.emplace(mode, s);
   }
-  return ate;
+  return runs;
 }
+
+// Keyframe RMS ATE (m); a failed evaluation counts as far off.
+double Ate(const RunSummary& s) { return s.eval ? (*s.eval)["keyframes"]["ape"]["rmse"].get<double>() : 1e9; }
 
 TEST(SharedRun, EurocMeetsTheAccuracyTargets) {
-  const auto ate = RunBothModes("euroc_mh01_shake", 20);
-  EXPECT_LE(ate.at(MapMode::kFull), 0.005);
-  EXPECT_LE(ate.at(MapMode::kSlidingWindow), 0.012);
+  const auto runs = RunBothModes("euroc_mh01_shake", 20);
+  EXPECT_LE(Ate(runs.at(MapMode::kFull)), 0.005);
+  EXPECT_LE(Ate(runs.at(MapMode::kSlidingWindow)), 0.012);
 }
 
+// The young map's bundle adjustments (SystemOptions::young_map_ba_last) at 10, 20 and 40
+// keyframes keep the walk's scale from drifting: 3.64 mm without them.
 TEST(SharedRun, RoomWalkKeepsItsScale) {
-  const auto ate = RunBothModes("blender_room_s3", 20);
-  EXPECT_LE(ate.at(MapMode::kFull), 0.008);
-  EXPECT_LE(ate.at(MapMode::kSlidingWindow), 0.010);
-  EXPECT_LT(ate.at(MapMode::kFull), ate.at(MapMode::kSlidingWindow));
-}
-
-// The young map's bundle adjustments (SystemOptions::young_map_ba_last) keep the room walk's scale
-// from drifting: 3.69 mm without them.
-TEST(SharedRun, RoomWalkYoungMapBundleAdjustmentsKeepTheScale) {
-  const Dataset dataset = OpenDataset(testing::SharedDataDir() / "blender_room_s3");
-  RunOptions options;
-  options.pace = Pace::kSequential;
-  options.quiet = true;
-  options.system.young_map_ba_last = 40;
-  const RunSummary s = RunDataset(dataset, options, testing::ScratchDir("shared_run_room_young_ba"));
-  std::printf("blender_room_s3 dsm, young map BA: %s\n", s.line.c_str());
-  ASSERT_TRUE(s.eval.has_value());
-  EXPECT_GE(s.stats["frames_tracked"].get<int>(), s.stats["frames"].get<int>() - s.stats["initialized_at_frame"].get<int>());
-  EXPECT_LE((*s.eval)["keyframes"]["ape"]["rmse"].get<double>(), 0.0025);
+  const auto runs = RunBothModes("blender_room_s3", 20);
+  const RunSummary& dsm = runs.at(MapMode::kFull);
+  EXPECT_LE(Ate(dsm), 0.0025);
+  EXPECT_LE(Ate(runs.at(MapMode::kSlidingWindow)), 0.010);
+  EXPECT_LT(Ate(dsm), Ate(runs.at(MapMode::kSlidingWindow)));
   std::vector<int> young;
-  for (const auto& k : s.stats["per_keyframe"])
+  for (const auto& k : dsm.stats["per_keyframe"])
     if (k.contains("young_map_ba")) young.push_back(k["young_map_ba"]["keyframes"].get<int>());
   EXPECT_EQ(young, (std::vector<int>{10, 20, 40}));
 }
@@ -88,8 +79,8 @@ TEST(SharedRun, RoomWalkGlobalBundleAdjustmentMakesTheLapConsistent) {
   ASSERT_TRUE(s.eval.has_value());
   const double before = (*s.eval)["keyframes_before_global_ba"]["ape"]["rmse"].get<double>();
   const double after = (*s.eval)["keyframes"]["ape"]["rmse"].get<double>();
-  EXPECT_LE(after, 0.003);
-  EXPECT_LT(after, 0.6 * before);
+  EXPECT_LE(after, 0.002);
+  EXPECT_LT(after, before);
 }
 
 TEST(SharedRun, EurocWithDefectsRelocalisesInTheSameMap) {

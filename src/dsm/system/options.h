@@ -66,18 +66,16 @@ struct SystemOptions {
   double smoothing_noise_threshold = 2.5;
   double smoothing_auto_sigma = 0.7;
   // Bundle adjustments of the whole young map (--mode dsm): every keyframe but the first free,
-  // after the window's own when the map reaches young_map_ba_first keyframes, then twice, four
-  // times as many, ..., up to young_map_ba_last (0, the default: none; 40 turns it on). A
-  // keyframe that leaves the window is held where the window left it, and every later keyframe
-  // builds on it: the first ones stand on short baselines and the two-view start, and on the
-  // path-traced room the scale drifted 1-3% over the first 100 frames and stayed (README, The
-  // young map). Not before 10 keyframes: a map of 5 may still be little more than a rotation
-  // (`pan`), and freeing all its poses bends it. The bound keeps the cost (about a second at 40
-  // keyframes) independent of the map's size. Off by default: `loop` with frames lost and
-  // relocalised came out worse on both renderings that relocalised, and the two-thread pace,
-  // making fewer keyframes, runs only the first two (README, The young map).
+  // when the map reaches young_map_ba_first keyframes, then twice, four times as many, ..., up to
+  // young_map_ba_last (0: none), each after the keyframe is published (System::FinishKeyframe; it
+  // is then published again). A keyframe that leaves the window is held where the window left
+  // it, and every later keyframe builds on it: the first ones stand on short baselines and the
+  // two-view start, and on the path-traced room the scale drifted 1-3% over the first 100 frames
+  // and stayed (README, The young map). Not before 10 keyframes: a map of 5 may still be little
+  // more than a rotation (`pan`), and freeing all its poses bends it. The bound keeps the cost
+  // (about a second at 40 keyframes) independent of the map's size.
   int young_map_ba_first = 10;
-  int young_map_ba_last = 0;
+  int young_map_ba_last = 40;
   int young_map_ba_step = 0;  // > 0: every this many keyframes from young_map_ba_first instead of doubling.
   // A bundle adjustment of the loop when the camera comes back (--mode dsm): when the new
   // keyframe's covisible keyframes reach at least loop_ba_min_gap keyframes back, the keyframes

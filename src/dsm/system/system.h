@@ -310,9 +310,12 @@ class System {
   // The loop bundle adjustment (SystemOptions::loop_ba_min_gap, loop_ba_after_relocalisation)
   // after keyframe `newest` is published (FinishKeyframe), when due; true when it ran.
   bool AdjustLoop(int newest);
+  // The young map's bundle adjustment (SystemOptions::young_map_ba_first) after the newest
+  // keyframe is published, when due; true when it ran.
+  bool AdjustYoungMap();
   // What the tracking reference does not need, done after it is published: kf's candidates (traced
-  // in the frames that follow), the loop adjustment when due, and the release of pyramids no
-  // longer used.
+  // in the frames that follow), the young map's and the loop adjustments when due, and the release
+  // of pyramids no longer used.
   void FinishKeyframe(int kf);
   // Candidates activated where no active point seen in `newest` (SeenIn) nor old map point is near.
   void ActivateCandidates(int newest);

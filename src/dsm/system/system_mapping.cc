@@ -100,13 +100,17 @@ void System::MapNewKeyframe(int kf) {
   log.pba_ms = pba.time_ms;
   log.observations_removed = pba.observations_removed;
   stats_.pba_ms.push_back(pba.time_ms);
-  if (options_.YoungMapBaDue(map_.NumKeyframes())) {
-    log.young_map_ba_keyframes = map_.NumKeyframes();
-    log.young_map_ba_ms = AdjustWholeMap().time_ms;
-    stats_.young_map_ba_ms.push_back(log.young_map_ba_ms);
-  }
   log.points_culled = CullPoints();
   PublishTrackingReference();
+}
+
+bool System::AdjustYoungMap() {
+  if (!options_.YoungMapBaDue(map_.NumKeyframes())) return false;
+  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  log.young_map_ba_keyframes = map_.NumKeyframes();
+  log.young_map_ba_ms = AdjustWholeMap().time_ms;
+  stats_.young_map_ba_ms.push_back(log.young_map_ba_ms);
+  return true;
 }
 
 bool System::AdjustLoop(int newest) {
@@ -137,10 +141,12 @@ bool System::AdjustLoop(int newest) {
 void System::FinishKeyframe(int kf) {
   SelectCandidates(kf);
   if (kf == kInitTrackingKeyframe) TrackInitFrames();
-  // The loop adjustment after publication (in the two-thread paces tracking goes on against the
-  // new keyframe meanwhile), then the keyframe published again, adjusted (UpdateReference keeps
-  // the frames' poses relative to it).
-  if (AdjustLoop(kf)) PublishTrackingReference();
+  // The young map's and the loop adjustments after publication (in the two-thread paces tracking
+  // goes on against the new keyframe meanwhile), then the keyframe published again, adjusted
+  // (UpdateReference keeps the frames' poses relative to it).
+  bool adjusted = AdjustYoungMap();
+  if (AdjustLoop(kf)) adjusted = true;
+  if (adjusted) PublishTrackingReference();
   // Keyframes keep their pyramids while a recent mapping step used them.
   map_.ReleaseUnusedPyramids(options_.keep_pyramid_keyframes);
   stats_.pyramids_loaded_max = std::max(stats_.pyramids_loaded_max, map_.NumLoadedPyramids());
