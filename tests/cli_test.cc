@@ -263,6 +263,48 @@ TEST(Cli, RunDebugWritesPerKeyframeDiagnostics) {
   EXPECT_NE(RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "run2").string() + " --debug /proc/no_such").code, 0);
 }
 
+// `--debug DIR` writes a row per frame read: black frames are lost with the reason, a corrupt file
+// is skipped with its error, and the row count and keyframes agree with stats.json.
+TEST(Cli, RunDebugWritesPerFrameStatus) {
+  const fs::path dir = ScratchDir("cli_debug_frames");
+  ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() +
+                   " --frames 60 --width 320 --height 240 --defects black:40-42,corrupt:50").code, 0);
+  const Result r = RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "run").string() + " --quiet --debug " +
+                          (dir / "debug").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream stats_file(dir / "run" / "stats.json");
+  const nlohmann::json stats = nlohmann::json::parse(stats_file);
+  std::ifstream table(dir / "debug" / "frames.csv");
+  std::string line;
+  std::getline(table, line);
+  EXPECT_EQ(line, "frame,map,status,keyframe,relocalised,tracking_ms,reason");
+  int rows = 0, keyframes = 0, lost = 0;
+  while (std::getline(table, line)) {
+    std::stringstream ss(line);
+    std::vector<std::string> f;
+    for (std::string x; f.size() < 6 && std::getline(ss, x, ',');) f.push_back(x);
+    std::string reason;
+    std::getline(ss, reason);
+    ASSERT_EQ(f.size(), 6u) << line;
+    EXPECT_EQ(std::stoi(f[0]), rows) << line;
+    EXPECT_EQ(f[1], "0") << line;
+    keyframes += f[3] == "1";
+    lost += f[2] == "lost";
+    if (rows >= 40 && rows <= 42) {
+      EXPECT_EQ(f[2], "lost") << line;
+      EXPECT_NE(reason.find("texture"), std::string::npos) << line;
+    }
+    if (rows == 50) {
+      EXPECT_EQ(f[2], "skipped") << line;
+      EXPECT_NE(reason.find("000050.png"), std::string::npos) << line;
+    }
+    ++rows;
+  }
+  EXPECT_EQ(rows, 60);
+  EXPECT_EQ(keyframes + 1, stats["keyframes"].get<int>());  // The start's reference frame is not marked.
+  EXPECT_EQ(lost, stats["frames_lost"].get<int>());
+}
+
 TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
   const fs::path dir = ScratchDir("cli_bad");
   const fs::path traj = SharedDataDir() / "trajectories";

@@ -50,6 +50,13 @@ std::string Number(double v) {
   return buffer;
 }
 
+// A CSV field in double quotes (a quote inside doubled).
+std::string Quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 enum class InKeyframe { kNone, kGood, kOutlier };
 
 struct PointRow {
@@ -76,6 +83,20 @@ DebugWriter::DebugWriter(const fs::path& dir, const Dataset& dataset, const Undi
   table_ << "keyframe,frame,t_s,tracking_rmse,inlier_ratio,window,covisible,points,points_created,points_culled,"
             "observations_removed,reobservations,pba_iterations,step,median_depth,step_over_depth,gt_step_m,scale,"
             "scale_drift,depth_scale_drift,depth_bad_share,error_sigma,error_nu,inlier_threshold,inlier_share\n";
+  frames_.open(dir / "frames.csv");
+  if (!frames_) throw InputError((dir / "frames.csv").string() + ": cannot write file");
+  frames_ << "frame,map,status,keyframe,relocalised,tracking_ms,reason\n";
+}
+
+void DebugWriter::AddFrame(const FrameReport& report, int map) {
+  frames_ << report.index << ',' << map << ',' << TrackingStatusName(report.status) << ',' << report.keyframe << ','
+          << report.relocalised << ',' << Number(report.tracking_ms) << ',' << Quoted(report.reason) << '\n';
+  if (!frames_) throw InputError((dir_ / "frames.csv").string() + ": write failed");
+}
+
+void DebugWriter::AddSkipped(int frame, int map, const std::string& error) {
+  frames_ << frame << ',' << map << ",skipped,0,0,nan," << Quoted(error) << '\n';
+  if (!frames_) throw InputError((dir_ / "frames.csv").string() + ": write failed");
 }
 
 void DebugWriter::AddKeyframes(const System& system) {

@@ -21,6 +21,12 @@
 //                                       points more than 20 % off that median
 //     error_sigma, error_nu, inlier_threshold, inlier_share
 //                                       the keyframe's fitted error model (robust.h)
+//   frames.csv          one row per frame read: frame, map (0 the first, 1 the next, ...),
+//                       status (initializing | ok | lost | skipped), keyframe and relocalised
+//                       (0 | 1; the map's first keyframe, the start's reference frame, is not
+//                       marked: its row was written while the map was still initialising),
+//                       tracking_ms, reason (why it is lost or still initialising, or why its
+//                       file was skipped; quoted)
 //   kf_<id>.png         the keyframe with the window's points projected into it, coloured by
 //                       inverse depth (near red .. far blue over the window's 5-95 % range);
 //                       filled squares: observed in this keyframe; crosses (magenta): observation
@@ -51,6 +57,9 @@ class DebugWriter {
 
   // Writes every keyframe the system made since the last call.
   void AddKeyframes(const System& system);
+  // A row of frames.csv: a processed frame of map `map`, or one whose file was skipped.
+  void AddFrame(const FrameReport& report, int map);
+  void AddSkipped(int frame, int map, const std::string& error);
 
  private:
   void WriteKeyframe(const System& system, int kf);
@@ -61,6 +70,7 @@ class DebugWriter {
   const Dataset& dataset_;
   const Undistorter& undistorter_;
   std::ofstream table_;
+  std::ofstream frames_;
   int written_ = 0;
   std::optional<double> start_scale_;  // Map units per metre between keyframes 0 and 1.
   std::map<int, Image<float>> depth_cache_;

@@ -288,6 +288,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       // A bad file in a recording costs its frame, not the run.
       progress.Event("dsm: warning: " + frame.error + "; frame " + std::to_string(i) + " skipped", stderr);
       skipped.push_back(i);
+      if (debug) debug->AddSkipped(i, static_cast<int>(maps.size()), frame.error);
       continue;
     }
     if (reader) released = std::chrono::steady_clock::now();
@@ -305,6 +306,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                                      : std::chrono::duration<double, std::milli>(posed - *taken).count() - r.wait_ms;
       realtime_wait.Record(latency_final_ms.back(), busy);  // The target bounds the waits: the kept pose's.
     }
+    if (debug) debug->AddFrame(r, static_cast<int>(maps.size()));
     if (debug && r.keyframe && maps.empty()) debug->AddKeyframes(*system);  // The first map's.
     // Events: tracking lost (once per episode) and regained.
     if (r.relocalised || (r.status == TrackingStatus::kLost && last_status != TrackingStatus::kLost)) {
