@@ -217,12 +217,18 @@ TEST(Cli, RunPrintsProgressLinesUnlessQuiet) {
 // `--debug DIR` on a rendered sequence with depth: a row per keyframe, a picture and a point table
 // per keyframe, and on a well-tracked sequence neither the motion's scale nor the points' depths
 // drift from the scale the map started with.
+// Renders `shake` at 320x240 (`synth_args`: its frames and extras) in dir/seq and runs it into
+// dir/run with `--debug dir/debug`; the rendering's result when it fails, else the run's.
+Result RunShakeWithDebug(const fs::path& dir, const std::string& synth_args) {
+  const Result synth = RunDsm("synth --scene shake --out " + (dir / "seq").string() + " --width 320 --height 240 " + synth_args);
+  if (synth.code != 0) return synth;
+  return RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "run").string() + " --quiet --debug " +
+                (dir / "debug").string());
+}
+
 TEST(Cli, RunDebugWritesPerKeyframeDiagnostics) {
   const fs::path dir = ScratchDir("cli_debug");
-  ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() +
-                   " --frames 50 --width 320 --height 240 --depth").code, 0);
-  const Result r = RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "run").string() + " --quiet --debug " +
-                          (dir / "debug").string());
+  const Result r = RunShakeWithDebug(dir, "--frames 50 --depth");
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream stats_file(dir / "run" / "stats.json");
   const int keyframes = nlohmann::json::parse(stats_file)["keyframes"];
@@ -267,10 +273,7 @@ TEST(Cli, RunDebugWritesPerKeyframeDiagnostics) {
 // is skipped with its error, and the row count and keyframes agree with stats.json.
 TEST(Cli, RunDebugWritesPerFrameStatus) {
   const fs::path dir = ScratchDir("cli_debug_frames");
-  ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() +
-                   " --frames 60 --width 320 --height 240 --defects black:40-42,corrupt:50").code, 0);
-  const Result r = RunDsm("run " + (dir / "seq").string() + " --out " + (dir / "run").string() + " --quiet --debug " +
-                          (dir / "debug").string());
+  const Result r = RunShakeWithDebug(dir, "--frames 60 --defects black:40-42,corrupt:50");
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream stats_file(dir / "run" / "stats.json");
   const nlohmann::json stats = nlohmann::json::parse(stats_file);

@@ -89,13 +89,18 @@ DebugWriter::DebugWriter(const fs::path& dir, const Dataset& dataset, const Undi
 }
 
 void DebugWriter::AddFrame(const FrameReport& report, int map) {
-  frames_ << report.index << ',' << map << ',' << TrackingStatusName(report.status) << ',' << report.keyframe << ','
-          << report.relocalised << ',' << Number(report.tracking_ms) << ',' << Quoted(report.reason) << '\n';
-  if (!frames_) throw InputError((dir_ / "frames.csv").string() + ": write failed");
+  WriteFrameRow(report.index, map, TrackingStatusName(report.status), report.keyframe, report.relocalised,
+                report.tracking_ms, report.reason);
 }
 
 void DebugWriter::AddSkipped(int frame, int map, const std::string& error) {
-  frames_ << frame << ',' << map << ",skipped,0,0,nan," << Quoted(error) << '\n';
+  WriteFrameRow(frame, map, "skipped", false, false, kNan, error);
+}
+
+void DebugWriter::WriteFrameRow(int frame, int map, const std::string& status, bool keyframe, bool relocalised,
+                                double tracking_ms, const std::string& reason) {
+  frames_ << frame << ',' << map << ',' << status << ',' << keyframe << ',' << relocalised << ','
+          << Number(tracking_ms) << ',' << Quoted(reason) << '\n';
   if (!frames_) throw InputError((dir_ / "frames.csv").string() + ": write failed");
 }
 

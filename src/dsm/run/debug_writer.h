@@ -63,6 +63,8 @@ class DebugWriter {
 
  private:
   void WriteKeyframe(const System& system, int kf);
+  void WriteFrameRow(int frame, int map, const std::string& status, bool keyframe, bool relocalised,
+                     double tracking_ms, const std::string& reason);
   // Undistorted depth of input frame `frame`, cached; nullptr when the dataset has none.
   const Image<float>* Depth(int frame);
 
