@@ -49,6 +49,8 @@ FrameSignature ComputeSignature(const ImagePyramid& pyramid) {
   }
   s.width = w;
   s.height = h;
+  s.mean = mean;
+  s.deviation = std::sqrt(norm / t.size());
   if (norm < 1e-6 * t.size()) return s;  // Uniform: nothing to compare.
   const float scale = static_cast<float>(1.0 / std::sqrt(norm));
   for (float& v : t) v *= scale;
@@ -61,6 +63,13 @@ double Similarity(const FrameSignature& a, const FrameSignature& b) {
   double dot = 0.0;
   for (size_t i = 0; i < a.thumbnail.size(); ++i) dot += static_cast<double>(a.thumbnail[i]) * b.thumbnail[i];
   return dot;
+}
+
+bool ImageBrightness(const FrameSignature& a, const FrameSignature& b, double* alpha, double* beta) {
+  if (a.thumbnail.empty() || b.thumbnail.empty()) return false;
+  *alpha = std::log(a.deviation / b.deviation);
+  *beta = a.mean - std::exp(*alpha) * b.mean;
+  return true;
 }
 
 }  // namespace dsm

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/image/signature.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace dsm {
@@ -28,6 +30,20 @@ TEST(FrameSignature, TextureAndThumbnail) {
   EXPECT_NEAR(Similarity(a, ComputeSignature(Stripes(16.f, 20.f, 30.f))), 1.0, 1e-5);
   EXPECT_NEAR(ComputeSignature(Stripes(16.f, 20.f, 30.f)).texture, 0.5 * a.texture, 1e-3 * a.texture);
   EXPECT_LT(Similarity(a, ComputeSignature(Stripes(16.f, -40.f, 100.f))), -0.9);
+}
+
+TEST(FrameSignature, ImageBrightness) {
+  // I_a = e^alpha I_b + beta exactly: the statistics give alpha and beta back.
+  const FrameSignature b = ComputeSignature(Stripes(16.f, 40.f, 100.f));
+  const FrameSignature a = ComputeSignature(Stripes(16.f, 20.f, 30.f));  // 0.5 * (I_b - 100) + 30
+  double alpha = 0.0, beta = 0.0;
+  ASSERT_TRUE(ImageBrightness(a, b, &alpha, &beta));
+  EXPECT_NEAR(alpha, std::log(0.5), 1e-4);
+  EXPECT_NEAR(beta, -20.0, 1e-2);
+  EXPECT_NEAR(b.mean, 100.0, 1.0);
+  const FrameSignature flat = ComputeSignature(ImagePyramid(Image<float>(64, 48, 7.f), 3, false));
+  EXPECT_FALSE(ImageBrightness(a, flat, &alpha, &beta));
+  EXPECT_FALSE(ImageBrightness(flat, a, &alpha, &beta));
 }
 
 }  // namespace

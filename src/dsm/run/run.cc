@@ -19,6 +19,7 @@
 #include "dsm/run/frame_reader.h"
 #include "dsm/run/interrupt.h"
 #include "dsm/run/live_view.h"
+#include "dsm/run/map_set.h"
 #include "dsm/run/map_export.h"
 #include "dsm/run/progress.h"
 #include "dsm/run/realtime_wait.h"
@@ -59,11 +60,11 @@ void WriteJson(const fs::path& path, const nlohmann::json& j) {
   if (!out) throw InputError(path.string() + ": cannot write file");
 }
 
-// One map of the run: a System from the frame it started on until the run ended or the camera went
-// somewhere the map does not cover (System::NeedsNewMap).
+// One map of the run (map_set.h), as it ended.
 struct MapRun {
   fs::path dir;  // Where its trajectories (and evaluation) are written.
-  int first_frame = -1, last_frame = -1;
+  int first_frame = -1, last_frame = -1;  // Of the frames it took (-1: none) ...
+  MapSet::Spans spans;                     // ... in spans (more than one: it was resumed).
   SystemStats stats;
   int map_points = 0;
   // Corners of the box around its points (world, the map's scale); min > max when it has none.
@@ -75,13 +76,16 @@ struct MapRun {
 
 // Ends a map: waits for its mapping, runs the global BA when asked, writes its trajectories (and,
 // with write_map, its points and keyframes as PLY).
-MapRun CloseMap(System& system, const fs::path& dir, int first_frame, int last_frame, bool global_ba,
+MapRun CloseMap(System& system, const fs::path& dir, const MapSet::Spans& spans, bool global_ba,
                 const PinholeCamera& camera, bool write_map) {
   system.Finish();
   MapRun m;
   m.dir = dir;
-  m.first_frame = first_frame;
-  m.last_frame = last_frame;
+  m.spans = spans;
+  if (!spans.empty()) {
+    m.first_frame = spans.front().first;
+    m.last_frame = spans.back().second;
+  }
   if (global_ba) {
     m.before_global_ba = system.KeyframeTrajectory();
     system.RunGlobalBundleAdjustment();
@@ -221,9 +225,6 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   system_options.wait_for_mapping = options.pace != Pace::kRealtime;
   system_options.map_snapshots = options.view_port >= 0;
   const Undistorter undistorter = FrameUndistorter(dataset, options.system);
-  auto system = std::make_unique<System>(undistorter.output(), system_options);
-  std::vector<MapRun> maps;  // The maps closed so far.
-  int map_first_frame = options.start;
   const auto map_dir = [&](size_t index) { return index == 0 ? out_dir : out_dir / ("map_" + std::to_string(index)); };
   std::optional<DebugWriter> debug;
   if (!options.debug_dir.empty()) debug.emplace(options.debug_dir, dataset, undistorter);
@@ -250,12 +251,19 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   std::vector<double> latency_ms, latency_final_ms;
   int posed_before_wait = 0;  // Frames told their pose before they waited for a keyframe being mapped.
   std::optional<std::chrono::steady_clock::time_point> first_posed;  // The current frame's.
-  const auto listen = [&first_posed](System* s) {
-    s->SetPoseListener([&first_posed](int, const SE3d&) {
-      if (!first_posed) first_posed = std::chrono::steady_clock::now();
-    });
-  };
-  listen(system.get());
+  std::vector<std::optional<MapRun>> ended;  // By map id.
+  MapSet map_set(
+      [&] {
+        auto system = std::make_unique<System>(undistorter.output(), system_options);
+        system->SetPoseListener([&first_posed](int, const SE3d&) {
+          if (!first_posed) first_posed = std::chrono::steady_clock::now();
+        });
+        return system;
+      },
+      [&](int id, System& system, const MapSet::Spans& spans) {
+        if (ended.size() <= static_cast<size_t>(id)) ended.resize(id + 1);
+        ended[id] = CloseMap(system, map_dir(id), spans, options.global_ba, undistorter.output(), options.write_map);
+      });
   int dropped = 0;
   std::vector<int> skipped;  // Frames whose file could not be used.
   int interrupt_signal = 0;  // The signal that stopped the run (interrupt.h), or 0.
@@ -266,6 +274,33 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   TrackingStatus last_status = TrackingStatus::kInitializing;
   RealtimeWait realtime_wait(options.realtime_latency_target_ms);
   nlohmann::json per_frame = {{"frame", nlohmann::json::array()}, {"tracking_ms", nlohmann::json::array()}};
+  // A frame settled in map `s.map` (map_set.h): its events, diagnostics and progress.
+  const auto settle = [&](const MapSet::Settled& s) {
+    const FrameReport& r = s.report;
+    const int i = r.index;
+    if (debug) debug->AddFrame(r, s.map);
+    if (debug && r.keyframe && s.map == 0) debug->AddKeyframes(map_set.current());  // The first map's.
+    // Events: tracking lost (once per episode), regained, and a map the camera came back to.
+    if (r.resumed) {
+      progress.Event("frame " + std::to_string(i) + "  back in map " + std::to_string(s.map) + " (relocalised)");
+    } else if (r.relocalised || (r.status == TrackingStatus::kLost && last_status != TrackingStatus::kLost)) {
+      progress.Event("frame " + std::to_string(i) + "  " + (r.relocalised ? "relocalised" : "tracking lost") +
+                     (r.reason.empty() ? "" : "  (" + r.reason + ")"));
+    }
+    last_status = r.status;
+    per_frame["frame"].push_back(i);
+    per_frame["tracking_ms"].push_back(r.tracking_ms);
+    shown.frame = i;
+    shown.done = i + 1 - options.start;
+    shown.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - process0).count();
+    shown.recording_s = RecordingSpan(dataset, options.start, i);
+    const System::MapSize size = map_set.current().TrackedMapSize();
+    shown.keyframes = size.keyframes;
+    shown.points = size.points;
+    shown.state = r.status == TrackingStatus::kOk ? "tracking" : r.status == TrackingStatus::kLost ? "lost" : "initialising";
+    progress.Update(shown);
+    if (live) live->Frame(map_set.current(), shown, per_frame, s.map);
+  };
   for (int i = options.start; i < end; ++i) {
     interrupt_signal = InterruptSignal();
     if (interrupt_signal != 0) break;
@@ -288,59 +323,41 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       // A bad file in a recording costs its frame, not the run.
       progress.Event("dsm: warning: " + frame.error + "; frame " + std::to_string(i) + " skipped", stderr);
       skipped.push_back(i);
-      if (debug) debug->AddSkipped(i, static_cast<int>(maps.size()), frame.error);
+      if (debug) debug->AddSkipped(i, map_set.current_id(), frame.error);
       continue;
     }
     if (reader) released = std::chrono::steady_clock::now();
     std::optional<std::chrono::steady_clock::time_point> wait_until;
     if (taken) wait_until = realtime_wait.Deadline(released, i + 2 < end ? std::optional(release(i + 2)) : std::nullopt);
     first_posed.reset();
-    const FrameReport r =
-        system->Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms, wait_until);
+    const std::vector<MapSet::Settled> settled =
+        map_set.Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms, wait_until);
     const auto posed = std::chrono::steady_clock::now();
     latency_ms.push_back(std::chrono::duration<double, std::milli>(first_posed.value_or(posed) - released).count());
     latency_final_ms.push_back(std::chrono::duration<double, std::milli>(posed - released).count());
-    posed_before_wait += r.posed_before_wait;
+    const FrameReport* r = nullptr;  // This frame's, when settled now.
+    for (const MapSet::Settled& st : settled)
+      if (st.report.index == i) r = &st.report;
+    if (r) posed_before_wait += r->posed_before_wait;
     if (taken) {
-      const double busy = r.wait_end ? std::chrono::duration<double, std::milli>(posed - *r.wait_end).count()
-                                     : std::chrono::duration<double, std::milli>(posed - *taken).count() - r.wait_ms;
+      const double busy = r && r->wait_end
+                              ? std::chrono::duration<double, std::milli>(posed - *r->wait_end).count()
+                              : std::chrono::duration<double, std::milli>(posed - *taken).count() - (r ? r->wait_ms : 0.0);
       realtime_wait.Record(latency_final_ms.back(), busy);  // The target bounds the waits: the kept pose's.
     }
-    if (debug) debug->AddFrame(r, static_cast<int>(maps.size()));
-    if (debug && r.keyframe && maps.empty()) debug->AddKeyframes(*system);  // The first map's.
-    // Events: tracking lost (once per episode) and regained.
-    if (r.relocalised || (r.status == TrackingStatus::kLost && last_status != TrackingStatus::kLost)) {
-      progress.Event("frame " + std::to_string(i) + "  " + (r.relocalised ? "relocalised" : "tracking lost") +
-                     (r.reason.empty() ? "" : "  (" + r.reason + ")"));
-    }
-    last_status = r.status;
-    per_frame["frame"].push_back(i);
-    per_frame["tracking_ms"].push_back(r.tracking_ms);
-    shown.frame = i;
-    shown.done = i + 1 - options.start;
-    shown.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - process0).count();
-    shown.recording_s = RecordingSpan(dataset, options.start, i);
-    const System::MapSize size = system->TrackedMapSize();
-    shown.keyframes = size.keyframes;
-    shown.points = size.points;
-    shown.state = r.status == TrackingStatus::kOk ? "tracking" : r.status == TrackingStatus::kLost ? "lost" : "initialising";
-    progress.Update(shown);
-    if (live) live->Frame(*system, shown, per_frame, static_cast<int>(maps.size()));
-    if (system->NeedsNewMap() && i + 1 < end) {
-      // Relocalisation keeps failing: the camera is somewhere new. This map ends here and the
-      // next frames start another (merging maps is not done).
-      maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, i, options.global_ba,
-                              undistorter.output(), options.write_map));
-      progress.Event("frame " + std::to_string(i) + "  new map " + std::to_string(maps.size()) +
+    for (const MapSet::Settled& st : settled) settle(st);
+    if (map_set.current().NeedsNewMap() && i + 1 < end) {
+      // Relocalisation keeps failing: the camera is somewhere new. Another map starts with the
+      // next frames; this one is suspended, and resumes if the camera comes back (map_set.h).
+      map_set.StartNewMap();
+      progress.Event("frame " + std::to_string(i) + "  new map " + std::to_string(map_set.current_id()) +
                      " (relocalisation kept failing)");
-      system = std::make_unique<System>(undistorter.output(), system_options);
-      listen(system.get());
-      map_first_frame = i + 1;
     }
   }
+  for (const MapSet::Settled& st : map_set.Flush()) settle(st);
   progress.Finish();
-  system->Finish();
-  if (live) live->Finish(*system, per_frame);
+  map_set.current().Finish();
+  if (live) live->Finish(map_set.current(), per_frame);
 
   // Speed against the recording: the frames' time span (one frame interval per frame) over the
   // time spent reading and processing them (mapping included); > 1 is faster than real time.
@@ -348,9 +365,9 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   const int processed = last_frame + 1 - options.start;  // Frames read or skipped.
   const double recording_s = RecordingSpan(dataset, options.start, last_frame);
   const double fps = processed / process_s, realtime_factor = recording_s / process_s;
-  maps.push_back(CloseMap(*system, map_dir(maps.size()), map_first_frame, last_frame, options.global_ba,
-                              undistorter.output(), options.write_map));
-  system.reset();
+  map_set.Close();
+  std::vector<MapRun> maps;
+  for (std::optional<MapRun>& m : ended) maps.push_back(std::move(*m));
   const SystemStats s = Combined(maps);
   int map_points = 0;
   for (const MapRun& m : maps) map_points += m.map_points;
@@ -443,7 +460,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       summary.line += "; map " + std::to_string(k) + map_line;
     }
     nlohmann::json j = {{"dir", fs::relative(m.dir, out_dir).string()}, {"first_frame", m.first_frame},
-                        {"last_frame", m.last_frame}, {"frames_tracked", m.stats.frames_tracked},
+                        {"last_frame", m.last_frame}, {"spans", m.spans}, {"frames_tracked", m.stats.frames_tracked},
                         {"keyframes", m.stats.keyframes}, {"map_points", m.map_points},
                         {"initialized_at_frame", m.stats.initialized_at_frame}};
     if (m.eval) j["keyframe_ate_m"] = (*m.eval)["keyframes"]["ape"]["rmse"];

@@ -9,9 +9,11 @@
 //   A fast `orbit` that loses two frames and skips three: tracking resumes where the camera went
 //   (ShortLossThenSkippedFrames).
 //   `loop` spliced onto `forward` (the camera reappears in a corridor it never saw): relocalisation
-//   keeps failing, a second map starts, and each map writes and evaluates its own trajectories.
+//   keeps failing, a second map starts, and each map writes and evaluates its own trajectories;
+//   spliced back onto `loop` (the camera returns), the first map resumes.
 #include <fstream>
 #include <set>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -103,30 +105,43 @@ TEST(Relocalisation, ShortLossThenSkippedFrames) {
   for (size_t i = 86; i < 96; ++i) EXPECT_TRUE(posed.count(d.frames[i].t_ns)) << "frame " << i;
 }
 
-TEST(Relocalisation, ANewPlaceStartsASecondMap) {
-  // 100 frames of `loop`, then 150 of `forward` 50 ms later: one folder dataset.
-  const fs::path room = Render("loop", 100, "", "splice_room"), corridor = Render("forward", 150, "", "splice_corridor");
-  const fs::path dir = testing::ScratchDir("reloc_splice") / "sequence";
+// A dataset of `pieces` (a dataset, its first frame, one past its last) one after another, each
+// 50 ms after the one before, with their ground truth: one folder dataset. Returns the first frame
+// index of each piece in it.
+std::vector<int> Splice(const std::vector<std::tuple<const Dataset*, int, int>>& pieces, const fs::path& dir) {
   fs::remove_all(dir);
   fs::create_directories(dir / "images");
-  fs::copy_file(room / "camera.yaml", dir / "camera.yaml");
-  const Dataset a = OpenDataset(room), b = OpenDataset(corridor);
-  const int64_t shift = a.frames.back().t_ns + 50000000 - b.frames.front().t_ns;
+  fs::copy_file(std::get<0>(pieces.front())->root / "camera.yaml", dir / "camera.yaml");
   Trajectory gt;
   std::ofstream times(dir / "times.txt");
+  std::vector<int> starts;
   int n = 0;
-  for (const Dataset* d : {&a, &b}) {
-    const int64_t dt = d == &b ? shift : 0;
-    for (size_t i = 0; i < d->size(); ++i, ++n) {
+  int64_t last = 0;
+  for (const auto& [d, first, end] : pieces) {
+    starts.push_back(n);
+    const int64_t shift = n == 0 ? 0 : last + 50000000 - d->frames[first].t_ns;
+    for (int i = first; i < end; ++i, ++n) {
       char name[32];
       std::snprintf(name, sizeof(name), "%06d.png", n);
       fs::create_symlink(d->root / "images" / d->frames[i].image, dir / "images" / name);
-      times << d->frames[i].t_ns + dt << " " << d->frames[i].exposure_ms << "\n";
-      gt.Add(d->frames[i].t_ns + dt, d->ground_truth.poses[i]);
+      last = d->frames[i].t_ns + shift;
+      times << last << " " << d->frames[i].exposure_ms << "\n";
+      gt.Add(last, d->ground_truth.poses[i]);
     }
   }
   times.close();
   WriteTumTrajectory(dir / "groundtruth.tum", gt);
+  return starts;
+}
+
+// 100 frames of `loop`, then 150 of `forward` (the camera reappears in a corridor it never saw):
+// relocalisation keeps failing, a second map starts, and each map writes and evaluates its own
+// trajectories.
+TEST(Relocalisation, ANewPlaceStartsASecondMap) {
+  const fs::path room = Render("loop", 100, "", "splice_room"), corridor = Render("forward", 150, "", "splice_corridor");
+  const Dataset a = OpenDataset(room), b = OpenDataset(corridor);
+  const fs::path dir = testing::ScratchDir("reloc_splice") / "sequence";
+  Splice({{&a, 0, 100}, {&b, 0, 150}}, dir);
   const fs::path out = dir.parent_path() / "out";
   const RunSummary s = RunSequential(dir, out);
   std::printf("%s\n", s.line.c_str());
@@ -142,8 +157,42 @@ TEST(Relocalisation, ANewPlaceStartsASecondMap) {
     EXPECT_TRUE(fs::exists(m / "eval.json")) << m;
   }
   // Each map on its own: poses of its own frames only, accurate after its own alignment.
-  EXPECT_LT(*std::prev(TumStamps(out / "frames.tum").end()), b.frames.front().t_ns + shift);
+  const int64_t corridor_start = OpenDataset(dir).frames[100].t_ns;
+  EXPECT_LT(*std::prev(TumStamps(out / "frames.tum").end()), corridor_start);
   EXPECT_GT(*TumStamps(out / "map_1" / "frames.tum").begin(), a.frames.back().t_ns);
+  for (const auto& m : s.stats["maps"]) EXPECT_LT(m["keyframe_ate_m"].get<double>(), 0.005);
+}
+
+// The camera leaves for the corridor and comes back: 100 frames of `loop`, 90 of `forward`, then
+// `loop` again from frame 100. The first map is suspended while the second is made, not ended:
+// the lost frames of the second are tried against it, and it takes the frames from the return on
+// (map_set.h). Before, the return started a third map.
+TEST(Relocalisation, ReturnResumesTheFirstMap) {
+  const fs::path room = Render("loop", 200, "", "return_room"), corridor = Render("forward", 90, "", "return_corridor");
+  const Dataset a = OpenDataset(room), b = OpenDataset(corridor);
+  const fs::path dir = testing::ScratchDir("reloc_return") / "sequence";
+  const std::vector<int> starts = Splice({{&a, 0, 100}, {&b, 0, 90}, {&a, 100, 200}}, dir);
+  const fs::path out = dir.parent_path() / "out";
+  const RunSummary s = RunSequential(dir, out);
+  std::printf("%s\n", s.line.c_str());
+  ASSERT_EQ(s.stats["maps"].size(), 2u);
+  const auto& first = s.stats["maps"][0];
+  const auto& second = s.stats["maps"][1];
+  // Every frame belongs to one map: the spans tile the run.
+  EXPECT_EQ(s.stats["frames"], 290);
+  ASSERT_EQ(first["spans"].size(), 2u);
+  ASSERT_EQ(second["spans"].size(), 1u);
+  EXPECT_EQ(first["spans"][0][0], 0);
+  EXPECT_EQ(second["spans"][0][0].get<int>(), first["spans"][0][1].get<int>() + 1);
+  EXPECT_EQ(first["spans"][1][0].get<int>(), second["spans"][0][1].get<int>() + 1);
+  EXPECT_EQ(first["spans"][1][1], 289);
+  // Back within 5 frames of the return, and tracked from there on in the first map's scale.
+  EXPECT_GE(first["spans"][1][0].get<int>(), starts[2]);
+  EXPECT_LE(first["spans"][1][0].get<int>(), starts[2] + 5);
+  EXPECT_GE(s.stats["relocalisations"].get<int>(), 1);
+  const Dataset d = OpenDataset(dir);
+  const std::set<int64_t> posed = TumStamps(out / "frames.tum");
+  for (int i = first["spans"][1][0].get<int>(); i < 290; ++i) EXPECT_TRUE(posed.count(d.frames[i].t_ns)) << "frame " << i;
   for (const auto& m : s.stats["maps"]) EXPECT_LT(m["keyframe_ate_m"].get<double>(), 0.005);
 }
 

@@ -24,7 +24,7 @@ struct KindName {
 constexpr KindName kKinds[] = {{DefectKind::kBlack, "black"},     {DefectKind::kSaturated, "saturated"},
                                {DefectKind::kNoise, "noise"},     {DefectKind::kCover, "cover"},
                                {DefectKind::kCorrupt, "corrupt"}, {DefectKind::kTruncated, "truncated"},
-                               {DefectKind::kEmpty, "empty"}};
+                               {DefectKind::kEmpty, "empty"},     {DefectKind::kCut, "cut"}};
 
 const Defect* Find(const std::vector<Defect>& defects, int frame, bool file) {
   for (const Defect& d : defects)
@@ -44,6 +44,12 @@ bool IsFileDefect(DefectKind k) {
   return k == DefectKind::kCorrupt || k == DefectKind::kTruncated || k == DefectKind::kEmpty;
 }
 
+bool IsCut(const std::vector<Defect>& defects, int frame) {
+  for (const Defect& d : defects)
+    if (d.kind == DefectKind::kCut && frame >= d.first && frame <= d.last) return true;
+  return false;
+}
+
 std::vector<Defect> ParseDefects(const std::string& spec) {
   std::vector<Defect> out;
   std::stringstream list(spec);
@@ -56,7 +62,7 @@ std::vector<Defect> ParseDefects(const std::string& spec) {
     const auto k = std::find_if(std::begin(kKinds), std::end(kKinds), [&](const KindName& n) { return kind == n.name; });
     if (k == std::end(kKinds)) {
       throw InputError("--defects: unknown kind '" + kind +
-                       "' (black, saturated, noise, cover, corrupt, truncated or empty)");
+                       "' (black, saturated, noise, cover, corrupt, truncated, empty or cut)");
     }
     Defect d;
     d.kind = k->kind;

@@ -8,6 +8,9 @@
 //                                                            under a dark, smooth, defocused shape
 // File defects damage the written file: corrupt (bytes flipped in the middle: the PNG's CRC
 // fails), truncated (cut at half its size), empty (zero bytes). Ground truth keeps every frame.
+// cut leaves the frames out of the recording: the camera reappears where it went meanwhile, the
+// frames after keep their timestamps, and the images (and ground truth) are numbered in order
+// without them. Every index in a spec is a rendered frame's (before the cut).
 #pragma once
 
 #include <cstdint>
@@ -19,7 +22,7 @@
 
 namespace dsm::synth {
 
-enum class DefectKind { kBlack, kSaturated, kNoise, kCover, kCorrupt, kTruncated, kEmpty };
+enum class DefectKind { kBlack, kSaturated, kNoise, kCover, kCorrupt, kTruncated, kEmpty, kCut };
 
 struct Defect {
   DefectKind kind = DefectKind::kBlack;
@@ -27,6 +30,8 @@ struct Defect {
 };
 
 bool IsFileDefect(DefectKind kind);  // corrupt, truncated, empty
+// True when a cut leaves rendered frame `frame` out.
+bool IsCut(const std::vector<Defect>& defects, int frame);
 
 // Parses a spec; throws InputError naming the item that is wrong. Empty spec: no defects.
 std::vector<Defect> ParseDefects(const std::string& spec);

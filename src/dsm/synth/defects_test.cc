@@ -21,6 +21,15 @@ TEST(Defects, ParsesKindsAndRanges) {
   EXPECT_EQ(d[2].last, 350);
   EXPECT_EQ(d[3].kind, DefectKind::kCover);
   EXPECT_TRUE(ParseDefects("").empty());
+  const std::vector<Defect> cut = ParseDefects("cut:10-19,black:25");
+  ASSERT_EQ(cut.size(), 2u);
+  EXPECT_EQ(cut[0].kind, DefectKind::kCut);
+  EXPECT_FALSE(IsFileDefect(DefectKind::kCut));
+  EXPECT_FALSE(IsCut(cut, 9));
+  EXPECT_TRUE(IsCut(cut, 10));
+  EXPECT_TRUE(IsCut(cut, 19));
+  EXPECT_FALSE(IsCut(cut, 20));
+  EXPECT_FALSE(IsCut(cut, 25));  // Black, not cut.
 }
 
 TEST(Defects, BadSpecsAreNamed) {

@@ -79,7 +79,8 @@ void System::ChooseSmoothing(const Image<float>& first) {
 FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms,
                             std::optional<std::chrono::steady_clock::time_point> wait_until) {
   DSM_CHECK(input.width() == camera_.width && input.height() == camera_.height, "frame size differs from the camera");
-  ++stats_.frames;
+  DSM_CHECK(!suspended_ || lost_ || tentative_, "a suspended map is lost");
+  if (!suspended_) ++stats_.frames;  // A suspended map's frame counts once it is tracked.
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
   if (stats_.smoothing_sigma < 0.0) ChooseSmoothing(input);
   const Image<float> smoothed =
@@ -194,6 +195,13 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   if (confirmed) {
     tentative_.reset();
     ++stats_.relocalisations;
+  }
+  if (suspended_) {
+    ++stats_.frames;
+    if (confirmed) {
+      suspended_ = false;
+      report.resumed = true;
+    }
   }
   lost_ = false;
   lost_in_a_row_ = failed_relocalisations_ = 0;
@@ -406,9 +414,10 @@ void System::CommitPose(int index, const TrackResult& result, double exposure, s
 FrameReport System::LostFrame(FrameReport report, int64_t t_ns, std::string reason) {
   report.status = TrackingStatus::kLost;
   report.reason = std::move(reason);
+  ++lost_in_a_row_;
+  if (suspended_) return report;  // Not its frame (Suspend).
   frames_.push_back({t_ns, -1, SE3d()});
   ++stats_.frames_lost;
-  ++lost_in_a_row_;
   if (!lost_) {
     lost_ = true;
     stats_.lost_episodes.push_back({report.index, report.index});
@@ -437,11 +446,18 @@ System::Tentative System::SaveTentative(int index) const {
 
 void System::WithdrawRelocalisation() {
   Tentative& t = *tentative_;
-  // The relocalised frame becomes a lost one of the same episode.
-  frames_[t.record].reference = -1;
-  --stats_.frames_tracked;
-  ++stats_.frames_lost;
-  stats_.lost_episodes.back().second = t.index;
+  if (suspended_) {
+    // Not its frame after all (Suspend): no trace left.
+    frames_.resize(t.record);
+    --stats_.frames_tracked;
+    --stats_.frames;
+  } else {
+    // The relocalised frame becomes a lost one of the same episode.
+    frames_[t.record].reference = -1;
+    --stats_.frames_tracked;
+    ++stats_.frames_lost;
+    stats_.lost_episodes.back().second = t.index;
+  }
   lost_in_a_row_ = t.lost_in_a_row + 1;
   failed_relocalisations_ = t.failed_relocalisations + 1;
   // The mapping side is idle: it was handed nothing since the camera was lost.

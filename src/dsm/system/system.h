@@ -53,6 +53,9 @@ struct FrameReport {
   std::string reason;       // For kInitializing / kLost.
   bool keyframe = false;
   bool relocalised = false;  // Tracking regained after lost frames (kOk).
+  // A suspended System's relocalisation confirmed by this frame: the camera is back in its map,
+  // which counts frames again (System::Suspend).
+  bool resumed = false;
   double tracking_ms = 0.0;  // Pyramid and alignment.
   double wait_ms = 0.0;      // Waiting for a keyframe to be mapped first (threaded).
   double mapping_ms = 0.0;   // Sequential: its candidate tracing, and its mapping when it became a keyframe.
@@ -170,6 +173,12 @@ class System {
   // True once relocalisation failed options.relocalisation.max_lost_frames times in a row: the
   // camera is somewhere the map does not cover, and the caller starts a new map (a new System).
   bool NeedsNewMap() const;
+  // The caller started a new map (NeedsNewMap) and keeps this one: frames are still tried against
+  // it (Process, relocalisation only) but count in it from the relocalisation the next frame
+  // confirms (FrameReport::resumed); until then lost frames leave no trace in its stats and
+  // trajectory. The mapping side is idle meanwhile (nothing is handed to it while lost).
+  void Suspend() { suspended_ = true; }
+  bool Suspended() const { return suspended_; }
 
   // Bundle adjustment of every keyframe and point of the map (keyframe 0 fixed), once, at the end.
   void RunGlobalBundleAdjustment();
@@ -377,6 +386,7 @@ class System {
   double first_rmse_after_keyframe_ = 0.0;
   TrackingQuality quality_;
   bool lost_ = false;
+  bool suspended_ = false;          // Suspend.
   int lost_in_a_row_ = 0;           // Lost frames since the last trusted one.
   int failed_relocalisations_ = 0;  // Frames relocalisation tried and failed since the last trusted one.
   std::optional<Tentative> tentative_;  // Set from a relocalisation until the next frame confirms it.

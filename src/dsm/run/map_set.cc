@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/run/map_set.h"
+
+#include <algorithm>
+
+namespace dsm {
+
+MapSet::MapSet(Factory make, Closer close) : make_(std::move(make)), close_(std::move(close)) { current_ = NewEntry(); }
+
+MapSet::Entry MapSet::NewEntry() {
+  Entry e;
+  e.id = next_id_++;
+  e.system = make_();
+  e.open = true;
+  return e;
+}
+
+void MapSet::Note(Entry* e, int index) {
+  if (e->spans.empty() || !e->open) e->spans.emplace_back(index, index);
+  e->spans.back().second = index;
+  e->open = true;
+}
+
+MapSet::Settled MapSet::TakeCurrent(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
+                                    std::optional<std::chrono::steady_clock::time_point> wait_until) {
+  Settled s{current_.system->Process(index, t_ns, image, exposure_ms, wait_until), current_.id};
+  current_status_ = s.report.status;
+  Note(&current_, index);
+  return s;
+}
+
+std::vector<MapSet::Settled> MapSet::Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
+                                             std::optional<std::chrono::steady_clock::time_point> wait_until) {
+  std::vector<Settled> out;
+  if (waiting_) {
+    Waiting w = std::move(*waiting_);
+    waiting_.reset();
+    Entry& back = suspended_[w.suspended];
+    FrameReport r = back.system->Process(index, t_ns, image, exposure_ms, wait_until);
+    if (r.resumed) {
+      // The camera is back in that map: it takes both frames and the frames after them.
+      current_.open = false;
+      close_(current_.id, *current_.system, current_.spans);
+      current_ = std::move(back);
+      suspended_.erase(suspended_.begin() + static_cast<long>(w.suspended));
+      Note(&current_, w.index);
+      Note(&current_, index);
+      current_status_ = r.status;
+      out.push_back({w.report, current_.id});
+      out.push_back({r, current_.id});
+      return out;
+    }
+    // Withdrawn: the waiting frame is the current map's; this one too, unless that suspended map
+    // relocalised it in turn.
+    out.push_back(TakeCurrent(w.index, w.t_ns, w.image, w.exposure_ms, std::nullopt));
+    if (r.relocalised) {
+      waiting_ = Waiting{index, t_ns, image, exposure_ms, r, w.suspended};
+      return out;
+    }
+    out.push_back(TakeCurrent(index, t_ns, image, exposure_ms, wait_until));
+    return out;
+  }
+  if (current_status_ != TrackingStatus::kOk) {
+    for (size_t k = suspended_.size(); k-- > 0;) {
+      FrameReport r = suspended_[k].system->Process(index, t_ns, image, exposure_ms, wait_until);
+      if (r.relocalised) {
+        waiting_ = Waiting{index, t_ns, image, exposure_ms, r, k};
+        return out;
+      }
+    }
+  }
+  out.push_back(TakeCurrent(index, t_ns, image, exposure_ms, wait_until));
+  return out;
+}
+
+std::vector<MapSet::Settled> MapSet::Flush() {
+  std::vector<Settled> out;
+  if (!waiting_) return out;
+  Waiting w = std::move(*waiting_);
+  waiting_.reset();
+  out.push_back(TakeCurrent(w.index, w.t_ns, w.image, w.exposure_ms, std::nullopt));
+  return out;
+}
+
+void MapSet::StartNewMap() {
+  current_.system->Finish();  // Its mapping side is idle from here on (System::Suspend).
+  current_.system->Suspend();
+  current_.open = false;
+  suspended_.push_back(std::move(current_));
+  current_ = NewEntry();
+  current_status_ = TrackingStatus::kInitializing;
+}
+
+void MapSet::Close() {
+  std::vector<Entry*> all = {&current_};
+  for (Entry& e : suspended_) all.push_back(&e);
+  std::sort(all.begin(), all.end(), [](const Entry* a, const Entry* b) { return a->id < b->id; });
+  for (Entry* e : all) {
+    e->open = false;
+    close_(e->id, *e->system, e->spans);
+    e->system.reset();
+  }
+  suspended_.clear();
+}
+
+}  // namespace dsm

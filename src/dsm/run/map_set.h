@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+// The maps of a run and which one takes each frame.
+//
+// The current map takes the frames. When relocalisation keeps failing in it (System::NeedsNewMap)
+// a new map starts and the old one is suspended (System::Suspend), not ended: while the current
+// map is not tracking (initialising or lost), every frame is also tried against the suspended
+// maps, newest first. A suspended map's relocalisation is tentative until the next frame confirms
+// it, so the frame it relocalised waits (the current map has not seen it): confirmed, both frames
+// are the suspended map's, it becomes the current map again (the camera is back where it was
+// mapped) and the map it replaces ends; withdrawn, the current map takes both frames in order.
+// Each frame thus belongs to exactly one map, and a map's frames may come in several spans.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "dsm/image/image.h"
+#include "dsm/system/system.h"
+
+namespace dsm {
+
+class MapSet {
+ public:
+  // Spans of frames (first, last) a map took, in order.
+  using Spans = std::vector<std::pair<int, int>>;
+  using Factory = std::function<std::unique_ptr<System>()>;
+  // Called once per map when it ends for good (replaced by a resumed map, or at Close), with its
+  // id (creation order, from 0) and spans (empty: it took no frame).
+  using Closer = std::function<void(int id, System& system, const Spans& spans)>;
+  MapSet(Factory make, Closer close);
+
+  // A frame the run settled: its report and the map it belongs to.
+  struct Settled {
+    FrameReport report;
+    int map = 0;
+  };
+  // Hands frame `index` to the maps; returns the frames settled by it, in order: none when it
+  // waits for the next frame to confirm a suspended map, two when a waiting frame is settled too.
+  std::vector<Settled> Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
+                               std::optional<std::chrono::steady_clock::time_point> wait_until);
+  // The current map takes a frame still waiting (the run ends or stops); its report, if any.
+  std::vector<Settled> Flush();
+  // Suspends the current map and starts a new one.
+  void StartNewMap();
+  // Ends every map (Closer), suspended ones included, in creation order.
+  void Close();
+
+  System& current() { return *current_.system; }
+  int current_id() const { return current_.id; }
+  int num_maps() const { return next_id_; }
+
+ private:
+  struct Entry {
+    int id = 0;
+    std::unique_ptr<System> system;
+    Spans spans;
+    bool open = false;  // Its last span is still growing (it is the current map).
+  };
+  struct Waiting {
+    int index = -1;
+    int64_t t_ns = 0;
+    Image<float> image;
+    double exposure_ms = 0.0;
+    FrameReport report;  // The suspended map's.
+    size_t suspended = 0;  // Which one (suspended_ index).
+  };
+  Entry NewEntry();
+  Settled TakeCurrent(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
+                      std::optional<std::chrono::steady_clock::time_point> wait_until);
+  static void Note(Entry* e, int index);
+
+  Factory make_;
+  Closer close_;
+  int next_id_ = 0;
+  Entry current_;
+  std::vector<Entry> suspended_;  // Oldest first.
+  TrackingStatus current_status_ = TrackingStatus::kInitializing;  // Of its last frame.
+  std::optional<Waiting> waiting_;
+};
+
+}  // namespace dsm
