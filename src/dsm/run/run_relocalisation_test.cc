@@ -7,7 +7,8 @@
 //   run's (measured 1.57 vs 0.65 mm: the 15-frame gaps break the chain of keyframes there).
 //   The same at 320x240 over 160 frames (DefectsAtLowResolution).
 //   A fast `orbit` that loses two frames and skips three: tracking resumes where the camera went
-//   (ShortLossThenSkippedFrames).
+//   (ShortLossThenSkippedFrames); frames missing from the recording count by their timestamps
+//   (GapInTheRecording).
 //   `loop` spliced onto `forward` (the camera reappears in a corridor it never saw): relocalisation
 //   keeps failing, a second map starts, and each map writes and evaluates its own trajectories;
 //   spliced back onto `loop` (the camera returns), the first map resumes.
@@ -103,6 +104,28 @@ TEST(Relocalisation, ShortLossThenSkippedFrames) {
   const Dataset d = OpenDataset(bad);
   const std::set<int64_t> posed = TumStamps(out / "frames.tum");
   for (size_t i = 86; i < 96; ++i) EXPECT_TRUE(posed.count(d.frames[i].t_ns)) << "frame " << i;
+}
+
+// The same fast `orbit` with four frames missing from the recording (synth --defects cut:83-86:
+// the timestamps jump by five frame intervals). The motion model counts the intervals, not the
+// frames: the first frame after the gap is tracked from the camera's motion over five intervals.
+// Counted per frame it was guessed one interval on, failed, and frames 83-85 were lost until a
+// relocalisation.
+TEST(Relocalisation, GapInTheRecording) {
+  const fs::path dir = Render("orbit", 150, "cut:83-86", "orbit_gap");
+  const Dataset d = OpenDataset(dir);
+  ASSERT_EQ(d.size(), 146u);
+  const fs::path out = dir.parent_path() / "out";
+  const RunSummary s = RunSequential(dir, out);
+  std::printf("%s\n", s.line.c_str());
+  EXPECT_EQ(s.stats["maps"].size(), 1u);
+  for (const auto& episode : s.stats["lost_episodes"]) {
+    EXPECT_FALSE(episode[0].get<int>() <= 85 && episode[1].get<int>() >= 83) << episode;
+  }
+  const std::set<int64_t> posed = TumStamps(out / "frames.tum");
+  for (size_t i = 83; i < 90; ++i) EXPECT_TRUE(posed.count(d.frames[i].t_ns)) << "frame " << i;
+  ASSERT_TRUE(s.eval);
+  EXPECT_LT(KeyframeAte(s), 0.005);
 }
 
 // A dataset of `pieces` (a dataset, its first frame, one past its last) one after another, each

@@ -81,6 +81,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   DSM_CHECK(input.width() == camera_.width && input.height() == camera_.height, "frame size differs from the camera");
   DSM_CHECK(!suspended_ || lost_ || tentative_, "a suspended map is lost");
   if (!suspended_) ++stats_.frames;  // A suspended map's frame counts once it is tracked.
+  NoteTimestamp(index, t_ns);
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
   if (stats_.smoothing_sigma < 0.0) ChooseSmoothing(input);
   const Image<float> smoothed =
@@ -397,7 +398,31 @@ TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double ex
 }
 
 int System::FramesSinceTrusted(int index) const {
-  return last_trusted_index_ >= 0 ? std::max(1, index - last_trusted_index_) : 1;
+  if (last_trusted_index_ < 0) return 1;
+  int frames = std::max(1, index - last_trusted_index_);
+  // A gap in the recording's timestamps (frames missing from it) counts as the frames that would
+  // have filled it: the camera moved on meanwhile.
+  if (frame_interval_ns_ > 0.0 && current_t_ns_ > last_trusted_t_ns_) {
+    const double intervals = static_cast<double>(current_t_ns_ - last_trusted_t_ns_) / frame_interval_ns_;
+    frames = std::max(frames, static_cast<int>(std::min(std::round(intervals), 1e6)));
+  }
+  return frames;
+}
+
+void System::NoteTimestamp(int index, int64_t t_ns) {
+  // The recording's frame interval: the median over the last steps between frames taken in turn
+  // (per index step: frames dropped or skipped between them share it).
+  constexpr size_t kSteps = 15;
+  if (seen_index_ >= 0 && index > seen_index_ && t_ns > seen_t_ns_) {
+    interval_steps_.push_back(static_cast<double>(t_ns - seen_t_ns_) / (index - seen_index_));
+    if (interval_steps_.size() > kSteps) interval_steps_.pop_front();
+    std::vector<double> sorted(interval_steps_.begin(), interval_steps_.end());
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    frame_interval_ns_ = sorted[sorted.size() / 2];
+  }
+  seen_index_ = index;
+  seen_t_ns_ = t_ns;
+  current_t_ns_ = t_ns;
 }
 
 void System::CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity) {
@@ -405,6 +430,7 @@ void System::CommitPose(int index, const TrackResult& result, double exposure, s
   const SE3d step = result.frame_from_keyframe * last_frame_from_reference_.Inverse();
   velocity_ = velocity ? *velocity : internal::ScaleSteps(step, 1.0 / gap);
   last_trusted_index_ = index;
+  last_trusted_t_ns_ = current_t_ns_;
   last_frame_from_reference_ = result.frame_from_keyframe;
   last_alpha_ = result.alpha;
   last_beta_ = result.beta;
@@ -434,6 +460,7 @@ System::Tentative System::SaveTentative(int index) const {
   t.last_frame_from_reference = last_frame_from_reference_;
   t.velocity = velocity_;
   t.last_trusted_index = last_trusted_index_;
+  t.last_trusted_t_ns = last_trusted_t_ns_;
   t.alpha = last_alpha_;
   t.beta = last_beta_;
   t.exposure = last_exposure_;
@@ -465,6 +492,7 @@ void System::WithdrawRelocalisation() {
   last_frame_from_reference_ = t.last_frame_from_reference;
   velocity_ = t.velocity;
   last_trusted_index_ = t.last_trusted_index;
+  last_trusted_t_ns_ = t.last_trusted_t_ns;
   last_alpha_ = t.alpha;
   last_beta_ = t.beta;
   last_exposure_ = t.exposure;

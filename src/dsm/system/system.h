@@ -247,8 +247,11 @@ class System {
   // The frame's pose and brightness relative to the reference become the last trusted ones; the
   // velocity is the step from the last trusted frame per frame, or `velocity` when given.
   void CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity);
-  // Frame indices from the last trusted frame to `index` (at least 1).
+  // Frames from the last trusted frame to `index` (at least 1): index steps, or the frame
+  // intervals between their timestamps when more (a gap in the recording).
   int FramesSinceTrusted(int index) const;
+  // Process: frame `index` at t_ns is the current one; the frame interval follows the recording.
+  void NoteTimestamp(int index, int64_t t_ns);
   // A lost frame: counted, its episode opened or extended.
   FrameReport LostFrame(FrameReport report, int64_t t_ns, std::string reason);
   // While lost (system_relocalisation.cc): aligns the frame with the reference and the keyframes most
@@ -272,6 +275,7 @@ class System {
     std::shared_ptr<const TrackingReference> reference;
     SE3d last_frame_from_reference, velocity;
     int last_trusted_index = -1;
+    int64_t last_trusted_t_ns = 0;
     double alpha = 0.0, beta = 0.0, exposure = 1.0, first_rmse_after_keyframe = 0.0;
     TrackingQuality quality{QualityOptions{}};
     int lost_in_a_row = 0, failed_relocalisations = 0;
@@ -379,7 +383,14 @@ class System {
   // velocity: the camera's motion per frame index (frame_from_previous over one index step; frames
   // dropped or skipped between two trusted ones divide their step).
   SE3d last_frame_from_reference_, velocity_;
-  int last_trusted_index_ = -1;  // Frame index of the last trusted frame.
+  int last_trusted_index_ = -1;  // Frame index of the last trusted frame ...
+  int64_t last_trusted_t_ns_ = 0;  // ... and its timestamp.
+  // The frame being processed, the last one seen before it, the recording's frame interval (0:
+  // not known yet) and the steps it is the median of (NoteTimestamp).
+  int64_t current_t_ns_ = 0, seen_t_ns_ = 0;
+  int seen_index_ = -1;
+  double frame_interval_ns_ = 0.0;
+  std::deque<double> interval_steps_;
   double last_alpha_ = 0.0, last_beta_ = 0.0;  // Brightness of the last frame relative to the reference.
   double last_exposure_ = 1.0;
   double previous_texture_ = 0.0;  // FrameSignature::texture of the frame before, whatever became of it.

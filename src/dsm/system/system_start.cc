@@ -106,6 +106,7 @@ void System::StartMap(const InitResult& init) {
   const int index_steps = last.index - pending_.front().index;
   velocity_ = index_steps > 0 ? Scale(kf1_from_kf0, 1.0 / index_steps) : SE3d();
   last_trusted_index_ = last.index;
+  last_trusted_t_ns_ = last.t_ns;
   last_exposure_ = last.exposure;
   pending_.clear();
 }
