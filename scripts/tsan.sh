@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # ThreadSanitizer check of the two-thread paces: builds `dsm` with -fsanitize=thread in
 # build-tsan/ (override with DSM_TSAN_DIR), then runs the default and the realtime pace on a
-# rendered `loop` (200 frames) and on the first 120 shared EuRoC frames. `--workers 1` keeps the
+# rendered `loop` (200 frames), on a camera that leaves `loop` for `forward` and comes back (a
+# second map starts and the first resumes: run/map_set.h) and on the first 120 shared EuRoC frames. `--workers 1` keeps the
 # parallel loops on the system's own two threads (TBB's worker threads are not instrumented and
 # would only produce reports about TBB itself). Fails on the first report.
 # Usage: ./scripts/tsan.sh [WORK_DIR]   (default /tmp/dsm_tsan)
@@ -22,10 +23,29 @@ mkdir -p "$WORK"
 # The renderer's parallel loop runs on TBB's uninstrumented threads: not part of the check.
 [ -f "$WORK/loop/groundtruth.tum" ] ||
   TSAN_OPTIONS=report_bugs=0 "$DSM" synth --scene loop --frames 200 --out "$WORK/loop" >/dev/null
+[ -f "$WORK/forward/times.txt" ] ||
+  TSAN_OPTIONS=report_bugs=0 "$DSM" synth --scene forward --frames 90 --out "$WORK/forward" >/dev/null
+# Frames 0-99 of `loop`, 0-89 of `forward`, 100-199 of `loop`, 50 ms apart, as one folder dataset.
+if [ ! -f "$WORK/return/times.txt" ]; then
+  mkdir -p "$WORK/return/images"
+  cp "$WORK/loop/camera.yaml" "$WORK/return/"
+  echo "# timestamp_ns exposure_ms" >"$WORK/return/times.txt"
+  n=0
+  for piece in "loop 0 99" "forward 0 89" "loop 100 199"; do
+    read -r scene first last <<<"$piece"
+    mapfile -t rows < <(grep -v '^#' "$WORK/$scene/times.txt")
+    for ((i = first; i <= last; i++)); do
+      name=$(printf '%06d.png' "$n")
+      ln -sf "$WORK/$scene/images/$(printf '%06d.png' "$i")" "$WORK/return/images/$name"
+      echo "$((1600000000000000000 + n * 50000000)) ${rows[$i]#* }" >>"$WORK/return/times.txt"
+      n=$((n + 1))
+    done
+  done
+fi
 # The loop adjustment runs after a keyframe's publication while tracking goes on: every 5
 # keyframes here (by default only after a relocalisation).
 printf 'system: {loop_ba_min_gap: 5}\n' >"$WORK/loop_ba.yaml"
-runs=("loop|$WORK/loop|" "loop_ba|$WORK/loop|--config=$WORK/loop_ba.yaml")
+runs=("loop|$WORK/loop|" "loop_ba|$WORK/loop|--config=$WORK/loop_ba.yaml" "return|$WORK/return|")
 if [ -d "$DATA/euroc_mh01_shake" ]; then runs+=("euroc|$DATA/euroc_mh01_shake|--end 120"); fi
 for entry in "${runs[@]}"; do
   IFS='|' read -r name dataset extra <<<"$entry"

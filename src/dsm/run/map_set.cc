@@ -78,6 +78,7 @@ std::vector<MapSet::Settled> MapSet::Flush() {
   if (!waiting_) return out;
   Waiting w = std::move(*waiting_);
   waiting_.reset();
+  suspended_[w.suspended].system->WithdrawTentative();  // Unconfirmed: not that map's frame.
   out.push_back(TakeCurrent(w.index, w.t_ns, w.image, w.exposure_ms, std::nullopt));
   return out;
 }

@@ -43,7 +43,8 @@ class MapSet {
   // waits for the next frame to confirm a suspended map, two when a waiting frame is settled too.
   std::vector<Settled> Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
                                std::optional<std::chrono::steady_clock::time_point> wait_until);
-  // The current map takes a frame still waiting (the run ends or stops); its report, if any.
+  // The current map takes a frame still waiting (the run ends or stops; the suspended map that
+  // relocalised it withdraws that); its report, if any.
   std::vector<Settled> Flush();
   // Suspends the current map and starts a new one.
   void StartNewMap();

@@ -43,10 +43,11 @@ fs::path Render(const std::string& scene, int frames, const std::string& defects
   return dir;
 }
 
-RunSummary RunSequential(const fs::path& dir, const fs::path& out) {
+RunSummary RunSequential(const fs::path& dir, const fs::path& out, int end = -1) {
   RunOptions options;
   options.pace = Pace::kSequential;
   options.quiet = true;
+  options.end = end;
   return RunDataset(OpenDataset(dir), options, out);
 }
 
@@ -215,8 +216,18 @@ TEST(Relocalisation, ReturnResumesTheFirstMap) {
   EXPECT_GE(s.stats["relocalisations"].get<int>(), 1);
   const Dataset d = OpenDataset(dir);
   const std::set<int64_t> posed = TumStamps(out / "frames.tum");
-  for (int i = first["spans"][1][0].get<int>(); i < 290; ++i) EXPECT_TRUE(posed.count(d.frames[i].t_ns)) << "frame " << i;
+  const int back = first["spans"][1][0].get<int>();
+  for (int i = back; i < 290; ++i) EXPECT_TRUE(posed.count(d.frames[i].t_ns)) << "frame " << i;
   for (const auto& m : s.stats["maps"]) EXPECT_LT(m["keyframe_ate_m"].get<double>(), 0.005);
+
+  // The run ends on the frame the first map relocalised, before the next could confirm it: the
+  // frame is the second map's, and the first map keeps no trace of it.
+  const RunSummary cut = RunSequential(dir, out.parent_path() / "out_cut", back + 1);
+  ASSERT_EQ(cut.stats["maps"].size(), 2u);
+  EXPECT_EQ(cut.stats["frames"], back + 1);
+  EXPECT_EQ(cut.stats["maps"][0]["spans"].size(), 1u);
+  EXPECT_EQ(cut.stats["maps"][1]["spans"][0][1], back);
+  EXPECT_FALSE(TumStamps(out.parent_path() / "out_cut" / "frames.tum").count(d.frames[back].t_ns));
 }
 
 }  // namespace

@@ -179,6 +179,11 @@ class System {
   // trajectory. The mapping side is idle meanwhile (nothing is handed to it while lost).
   void Suspend() { suspended_ = true; }
   bool Suspended() const { return suspended_; }
+  // Withdraws a relocalisation still waiting for the next frame's confirmation, as if that frame
+  // had not confirmed it (the run ended first).
+  void WithdrawTentative() {
+    if (tentative_) WithdrawRelocalisation();
+  }
 
   // Bundle adjustment of every keyframe and point of the map (keyframe 0 fixed), once, at the end.
   void RunGlobalBundleAdjustment();
