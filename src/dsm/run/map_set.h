@@ -53,7 +53,6 @@ class MapSet {
 
   System& current() { return *current_.system; }
   int current_id() const { return current_.id; }
-  int num_maps() const { return next_id_; }
 
  private:
   struct Entry {

@@ -18,6 +18,7 @@
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/initializer.h"
 #include "dsm/util/check.h"
+#include "dsm/util/median.h"
 
 namespace dsm {
 
@@ -416,9 +417,7 @@ void System::NoteTimestamp(int index, int64_t t_ns) {
   if (seen_index_ >= 0 && index > seen_index_ && t_ns > seen_t_ns_) {
     interval_steps_.push_back(static_cast<double>(t_ns - seen_t_ns_) / (index - seen_index_));
     if (interval_steps_.size() > kSteps) interval_steps_.pop_front();
-    std::vector<double> sorted(interval_steps_.begin(), interval_steps_.end());
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    frame_interval_ns_ = sorted[sorted.size() / 2];
+    frame_interval_ns_ = Median(std::vector<double>(interval_steps_.begin(), interval_steps_.end()));
   }
   seen_index_ = index;
   seen_t_ns_ = t_ns;

@@ -178,7 +178,6 @@ class System {
   // confirms (FrameReport::resumed); until then lost frames leave no trace in its stats and
   // trajectory. The mapping side is idle meanwhile (nothing is handed to it while lost).
   void Suspend() { suspended_ = true; }
-  bool Suspended() const { return suspended_; }
   // Withdraws a relocalisation still waiting for the next frame's confirmation, as if that frame
   // had not confirmed it (the run ended first).
   void WithdrawTentative() {
