@@ -77,6 +77,9 @@ class ImagePyramid {
     const float dy = w00 * p[0].dy + w10 * p[1].dy + w01 * q[0].dy + w11 * q[1].dy;
     return PixelGrad(v * (1.f / kValueScale), dx * (1.f / kGradientScale), dy * (1.f / kGradientScale));
   }
+  // Sample at eight points (x[k], y[k]) into value, dx, dy (8 floats each): bit for bit what
+  // Sample gives, vectorised (pyramid_sample.cc); needs HasGradients() and every point InBounds.
+  void Sample8(int l, const float* x, const float* y, float* value, float* dx, float* dy) const;
   float SampleValue(int l, float x, float y) const {
     const int ix = static_cast<int>(x), iy = static_cast<int>(y);
     const float fx = x - ix, fy = y - iy;

@@ -56,12 +56,7 @@ bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, Deri
   for (int k = 0; k < n; ++k) {
     if (!(pz[k] > 0.f) || !in.target->InBounds(in.level, u[k], v[k], 2.f)) return false;
   }
-  for (int k = 0; k < n; ++k) {
-    const PixelGrad g = in.target->Sample(in.level, u[k], v[k]);
-    value[k] = g[0];
-    gx[k] = g[1];
-    gy[k] = g[2];
-  }
+  in.target->Sample8(in.level, u, v, value, gx, gy);
 #pragma omp simd
   for (int k = 0; k < n; ++k) {
     const float it_minus_b = value[k] - b_t;

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: MIT
+// ImagePyramid::Sample8: the bilinear (I, dI/dx, dI/dy) of eight points at once, what one
+// residual pattern needs. The scalar path is Sample's arithmetic per point; on CPUs with AVX2 the
+// eight points run in the lanes of one register: the 6-byte pixels are fetched by 32-bit gathers
+// (bytes 0-3, 4-7 and 8-11 from the left pixel: (I0, dx0), (dy0, I1), (dx1, dy1)), split by shifts
+// and weighted in the same order, so both paths give the same floats bit for bit.
+#include "dsm/image/pyramid.h"
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(DSM_NO_SIMD_CLONES)
+#include <immintrin.h>
+#define DSM_SAMPLE8_AVX2 1
+#endif
+
+namespace dsm {
+namespace {
+
+void Sample8Scalar(const Image<PixelFixed>& img, const float* x, const float* y, float* value, float* dx,
+                   float* dy) {
+  for (int k = 0; k < 8; ++k) {
+    const int ix = static_cast<int>(x[k]), iy = static_cast<int>(y[k]);
+    const float fx = x[k] - ix, fy = y[k] - iy;
+    const PixelFixed* p = img.Row(iy) + ix;
+    const PixelFixed* q = p + img.width();
+    const float w00 = (1.f - fx) * (1.f - fy), w10 = fx * (1.f - fy), w01 = (1.f - fx) * fy, w11 = fx * fy;
+    const float v = w00 * p[0].value + w10 * p[1].value + w01 * q[0].value + w11 * q[1].value;
+    const float gx = w00 * p[0].dx + w10 * p[1].dx + w01 * q[0].dx + w11 * q[1].dx;
+    const float gy = w00 * p[0].dy + w10 * p[1].dy + w01 * q[0].dy + w11 * q[1].dy;
+    value[k] = v * (1.f / ImagePyramid::kValueScale);
+    dx[k] = gx * (1.f / ImagePyramid::kGradientScale);
+    dy[k] = gy * (1.f / ImagePyramid::kGradientScale);
+  }
+}
+
+#ifdef DSM_SAMPLE8_AVX2
+// The low and the high signed 16 bits of each 32-bit lane, as floats.
+__attribute__((target("avx2"))) inline __m256 LowSigned(__m256i a) {
+  return _mm256_cvtepi32_ps(_mm256_srai_epi32(_mm256_slli_epi32(a, 16), 16));
+}
+__attribute__((target("avx2"))) inline __m256 HighSigned(__m256i a) {
+  return _mm256_cvtepi32_ps(_mm256_srai_epi32(a, 16));
+}
+__attribute__((target("avx2"))) inline __m256 LowUnsigned(__m256i a) {
+  return _mm256_cvtepi32_ps(_mm256_and_si256(a, _mm256_set1_epi32(0xffff)));
+}
+__attribute__((target("avx2"))) inline __m256 HighUnsigned(__m256i a) {
+  return _mm256_cvtepi32_ps(_mm256_srli_epi32(a, 16));
+}
+// w00 a + w10 b + w01 c + w11 d, summed left to right as the scalar expression.
+__attribute__((target("avx2"))) inline __m256 Blend(__m256 w00, __m256 w10, __m256 w01, __m256 w11, __m256 a, __m256 b,
+                                                   __m256 c, __m256 d) {
+  return _mm256_add_ps(
+      _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(w00, a), _mm256_mul_ps(w10, b)), _mm256_mul_ps(w01, c)),
+      _mm256_mul_ps(w11, d));
+}
+
+__attribute__((target("avx2"))) void Sample8Avx2(const Image<PixelFixed>& img, const float* x, const float* y,
+                                                 float* value, float* dx, float* dy) {
+  static_assert(sizeof(PixelFixed) == 6, "the gathers assume 6-byte pixels");
+  const __m256 X = _mm256_loadu_ps(x), Y = _mm256_loadu_ps(y);
+  const __m256i ix = _mm256_cvttps_epi32(X), iy = _mm256_cvttps_epi32(Y);
+  const __m256 fx = _mm256_sub_ps(X, _mm256_cvtepi32_ps(ix)), fy = _mm256_sub_ps(Y, _mm256_cvtepi32_ps(iy));
+  const __m256 one = _mm256_set1_ps(1.f);
+  const __m256 gx_ = _mm256_sub_ps(one, fx), gy_ = _mm256_sub_ps(one, fy);
+  const __m256 w00 = _mm256_mul_ps(gx_, gy_), w10 = _mm256_mul_ps(fx, gy_), w01 = _mm256_mul_ps(gx_, fy),
+               w11 = _mm256_mul_ps(fx, fy);
+  // Byte offsets of the left pixels: 6 (y w + x).
+  const __m256i index = _mm256_add_epi32(_mm256_mullo_epi32(iy, _mm256_set1_epi32(img.width())), ix);
+  const __m256i p_off = _mm256_add_epi32(_mm256_slli_epi32(index, 2), _mm256_slli_epi32(index, 1));
+  const __m256i q_off = _mm256_add_epi32(p_off, _mm256_set1_epi32(6 * img.width()));
+  const int* base = reinterpret_cast<const int*>(img.Row(0));
+  const __m256i four = _mm256_set1_epi32(4), eight = _mm256_set1_epi32(8);
+  const __m256i p0 = _mm256_i32gather_epi32(base, p_off, 1);
+  const __m256i p1 = _mm256_i32gather_epi32(base, _mm256_add_epi32(p_off, four), 1);
+  const __m256i p2 = _mm256_i32gather_epi32(base, _mm256_add_epi32(p_off, eight), 1);
+  const __m256i q0 = _mm256_i32gather_epi32(base, q_off, 1);
+  const __m256i q1 = _mm256_i32gather_epi32(base, _mm256_add_epi32(q_off, four), 1);
+  const __m256i q2 = _mm256_i32gather_epi32(base, _mm256_add_epi32(q_off, eight), 1);
+  const __m256 v = Blend(w00, w10, w01, w11, LowUnsigned(p0), HighUnsigned(p1), LowUnsigned(q0), HighUnsigned(q1));
+  const __m256 gx = Blend(w00, w10, w01, w11, HighSigned(p0), LowSigned(p2), HighSigned(q0), LowSigned(q2));
+  const __m256 gy = Blend(w00, w10, w01, w11, LowSigned(p1), HighSigned(p2), LowSigned(q1), HighSigned(q2));
+  _mm256_storeu_ps(value, _mm256_mul_ps(v, _mm256_set1_ps(1.f / ImagePyramid::kValueScale)));
+  _mm256_storeu_ps(dx, _mm256_mul_ps(gx, _mm256_set1_ps(1.f / ImagePyramid::kGradientScale)));
+  _mm256_storeu_ps(dy, _mm256_mul_ps(gy, _mm256_set1_ps(1.f / ImagePyramid::kGradientScale)));
+}
+
+// Initialised before main, possibly before libgcc's own CPU probe: it runs it first.
+const bool kHasAvx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
+#endif
+
+}  // namespace
+
+void ImagePyramid::Sample8(int l, const float* x, const float* y, float* value, float* dx, float* dy) const {
+#ifdef DSM_SAMPLE8_AVX2
+  if (kHasAvx2) return Sample8Avx2(fixed_[l], x, y, value, dx, dy);
+#endif
+  Sample8Scalar(fixed_[l], x, y, value, dx, dy);
+}
+
+}  // namespace dsm
