@@ -38,6 +38,9 @@ void NormalEquations::AddCoupling(PointBlock* point, int camera, const CameraVec
 }
 
 Solution SolveSchur(const NormalEquations& eq, double lambda) {
+  // S = H_cc - sum_p H_cp H_pp^-1 H_pc is formed in its lower block triangle only (and the
+  // diagonal blocks whole): the LDLT below reads the lower triangle alone, and the upper blocks
+  // were half of the work.
   Eigen::MatrixXd S = eq.H_cc;
   S.diagonal() *= (1.0 + lambda);
   Eigen::VectorXd rhs = eq.b_c;
@@ -53,7 +56,7 @@ Solution SolveSchur(const NormalEquations& eq, double lambda) {
       rhs.segment<kCameraParams>(bi) -= vi * (p.b_p * inv_hpp[i]);
       for (const auto& [cj, vj] : p.H_cp) {
         const int bj = eq.block[cj];
-        if (bj < 0) continue;
+        if (bj < 0 || bj > bi) continue;
         S.block<kCameraParams, kCameraParams>(bi, bj).noalias() -= vi * vj.transpose() * inv_hpp[i];
       }
     }
@@ -61,7 +64,7 @@ Solution SolveSchur(const NormalEquations& eq, double lambda) {
   Solution sol;
   sol.cameras.setZero(kCameraParams * eq.num_cameras);
   if (S.rows() > 0) {
-    const Eigen::VectorXd x = S.ldlt().solve(-rhs);
+    const Eigen::VectorXd x = Eigen::LDLT<Eigen::MatrixXd, Eigen::Lower>(S).solve(-rhs);
     for (int c = 0; c < eq.num_cameras; ++c)
       if (eq.block[c] >= 0) sol.cameras.segment<kCameraParams>(kCameraParams * c) = x.segment<kCameraParams>(eq.block[c]);
   }

@@ -380,7 +380,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                                      {"points", k.pba_points}, {"observations", k.pba_observations},
                                      {"iterations", k.pba_iterations}, {"ms", k.pba_ms}}}});
     if (k.young_map_ba_keyframes > 0)
-      per_keyframe.back()["young_map_ba"] = {{"keyframes", k.young_map_ba_keyframes}, {"ms", k.young_map_ba_ms}};
+      per_keyframe.back()["young_map_ba"] = {{"keyframes", k.young_map_ba_keyframes},
+                                              {"ms", k.young_map_ba_ms},
+                                              {"iterations", k.young_map_ba_iterations},
+                                              {"observations", k.young_map_ba_observations}};
     if (k.loop_ba_keyframes > 0)
       per_keyframe.back()["loop_ba"] = {{"keyframes", k.loop_ba_keyframes}, {"ms", k.loop_ba_ms}};
     created.push_back(k.points_created);

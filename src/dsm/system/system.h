@@ -98,6 +98,7 @@ struct SystemStats {
     // its keyframes and time.
     int young_map_ba_keyframes = 0;
     double young_map_ba_ms = 0.0;
+    int young_map_ba_iterations = 0, young_map_ba_observations = 0;
     int loop_ba_keyframes = 0;  // Keyframes the loop bundle adjustment after this one freed (0: none).
     double loop_ba_ms = 0.0;
     int observations_removed = 0;  // Marked outliers after its bundle adjustment.

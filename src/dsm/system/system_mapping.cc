@@ -108,7 +108,10 @@ bool System::AdjustYoungMap() {
   if (!options_.YoungMapBaDue(map_.NumKeyframes())) return false;
   SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
   log.young_map_ba_keyframes = map_.NumKeyframes();
-  log.young_map_ba_ms = AdjustWholeMap().time_ms;
+  const PbaSummary summary = AdjustWholeMap();
+  log.young_map_ba_ms = summary.time_ms;
+  log.young_map_ba_iterations = summary.iterations;
+  log.young_map_ba_observations = summary.observations;
   stats_.young_map_ba_ms.push_back(log.young_map_ba_ms);
   return true;
 }
