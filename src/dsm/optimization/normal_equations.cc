@@ -2,6 +2,8 @@
 #include "dsm/optimization/normal_equations.h"
 
 #include <Eigen/Cholesky>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "dsm/util/check.h"
 
@@ -40,27 +42,34 @@ void NormalEquations::AddCoupling(PointBlock* point, int camera, const CameraVec
 Solution SolveSchur(const NormalEquations& eq, double lambda) {
   // S = H_cc - sum_p H_cp H_pp^-1 H_pc is formed in its lower block triangle only (and the
   // diagonal blocks whole): the LDLT below reads the lower triangle alone, and the upper blocks
-  // were half of the work.
+  // were half of the work. Block rows are split between tasks; each sums its blocks over the
+  // points in order, so S is the sequential loop's whatever the thread count.
   Eigen::MatrixXd S = eq.H_cc;
   S.diagonal() *= (1.0 + lambda);
   Eigen::VectorXd rhs = eq.b_c;
   std::vector<double> inv_hpp(eq.points.size(), 0.0);
   for (size_t i = 0; i < eq.points.size(); ++i) {
-    const auto& p = eq.points[i];
-    const double hpp = p.H_pp * (1.0 + lambda);
-    if (!(hpp > 0.0)) continue;
-    inv_hpp[i] = 1.0 / hpp;
-    for (const auto& [ci, vi] : p.H_cp) {
-      const int bi = eq.block[ci];
-      if (bi < 0) continue;
-      rhs.segment<kCameraParams>(bi) -= vi * (p.b_p * inv_hpp[i]);
-      for (const auto& [cj, vj] : p.H_cp) {
-        const int bj = eq.block[cj];
-        if (bj < 0 || bj > bi) continue;
-        S.block<kCameraParams, kCameraParams>(bi, bj).noalias() -= vi * vj.transpose() * inv_hpp[i];
+    const double hpp = eq.points[i].H_pp * (1.0 + lambda);
+    if (hpp > 0.0) inv_hpp[i] = 1.0 / hpp;
+  }
+  const int block_rows = static_cast<int>(S.rows()) / kCameraParams;
+  tbb::parallel_for(tbb::blocked_range<int>(0, block_rows), [&](const tbb::blocked_range<int>& rows) {
+    const int first = rows.begin() * kCameraParams, end = rows.end() * kCameraParams;
+    for (size_t i = 0; i < eq.points.size(); ++i) {
+      if (inv_hpp[i] == 0.0) continue;
+      const auto& p = eq.points[i];
+      for (const auto& [ci, vi] : p.H_cp) {
+        const int bi = eq.block[ci];
+        if (bi < first || bi >= end) continue;  // Fixed (-1) or another task's row.
+        rhs.segment<kCameraParams>(bi) -= vi * (p.b_p * inv_hpp[i]);
+        for (const auto& [cj, vj] : p.H_cp) {
+          const int bj = eq.block[cj];
+          if (bj < 0 || bj > bi) continue;
+          S.block<kCameraParams, kCameraParams>(bi, bj).noalias() -= vi * vj.transpose() * inv_hpp[i];
+        }
       }
     }
-  }
+  });
   Solution sol;
   sol.cameras.setZero(kCameraParams * eq.num_cameras);
   if (S.rows() > 0) {
