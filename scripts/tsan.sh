@@ -2,9 +2,10 @@
 # ThreadSanitizer check of the two-thread paces: builds `dsm` with -fsanitize=thread in
 # build-tsan/ (override with DSM_TSAN_DIR), then runs the default and the realtime pace on a
 # rendered `loop` (200 frames), on a camera that leaves `loop` for `forward` and comes back (a
-# second map starts and the first resumes: run/map_set.h) and on the first 120 shared EuRoC frames. `--workers 1` keeps the
-# parallel loops on the system's own two threads (TBB's worker threads are not instrumented and
-# would only produce reports about TBB itself). Fails on the first report.
+# second map starts and the first resumes: run/map_set.h) and on the first 120 shared EuRoC
+# frames. `--workers 1` keeps the parallel loops on the system's own two threads (TBB's worker
+# threads are not instrumented and would only produce reports about TBB itself). Fails on the
+# first report.
 # Usage: ./scripts/tsan.sh [WORK_DIR]   (default /tmp/dsm_tsan)
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // ImagePyramid::Sample8: the bilinear (I, dI/dx, dI/dy) of eight points at once, what one
-// residual pattern needs. The scalar path is Sample's arithmetic per point; on CPUs with AVX2 the
+// residual pattern needs. The scalar path is Sample per point; on CPUs with AVX2 the
 // eight points run in the lanes of one register: the 6-byte pixels are fetched by 32-bit gathers
 // (bytes 0-3, 4-7 and 8-11 from the left pixel: (I0, dx0), (dy0, I1), (dx1, dy1)), split by shifts
 // and weighted in the same order, so both paths give the same floats bit for bit.
@@ -13,23 +13,6 @@
 
 namespace dsm {
 namespace {
-
-void Sample8Scalar(const Image<PixelFixed>& img, const float* x, const float* y, float* value, float* dx,
-                   float* dy) {
-  for (int k = 0; k < 8; ++k) {
-    const int ix = static_cast<int>(x[k]), iy = static_cast<int>(y[k]);
-    const float fx = x[k] - ix, fy = y[k] - iy;
-    const PixelFixed* p = img.Row(iy) + ix;
-    const PixelFixed* q = p + img.width();
-    const float w00 = (1.f - fx) * (1.f - fy), w10 = fx * (1.f - fy), w01 = (1.f - fx) * fy, w11 = fx * fy;
-    const float v = w00 * p[0].value + w10 * p[1].value + w01 * q[0].value + w11 * q[1].value;
-    const float gx = w00 * p[0].dx + w10 * p[1].dx + w01 * q[0].dx + w11 * q[1].dx;
-    const float gy = w00 * p[0].dy + w10 * p[1].dy + w01 * q[0].dy + w11 * q[1].dy;
-    value[k] = v * (1.f / ImagePyramid::kValueScale);
-    dx[k] = gx * (1.f / ImagePyramid::kGradientScale);
-    dy[k] = gy * (1.f / ImagePyramid::kGradientScale);
-  }
-}
 
 #ifdef DSM_SAMPLE8_AVX2
 // The low and the high signed 16 bits of each 32-bit lane, as floats.
@@ -93,7 +76,12 @@ void ImagePyramid::Sample8(int l, const float* x, const float* y, float* value, 
 #ifdef DSM_SAMPLE8_AVX2
   if (kHasAvx2) return Sample8Avx2(fixed_[l], x, y, value, dx, dy);
 #endif
-  Sample8Scalar(fixed_[l], x, y, value, dx, dy);
+  for (int k = 0; k < 8; ++k) {
+    const PixelGrad g = Sample(l, x[k], y[k]);
+    value[k] = g[0];
+    dx[k] = g[1];
+    dy[k] = g[2];
+  }
 }
 
 }  // namespace dsm
