@@ -107,7 +107,12 @@ double Undistorter::ValidFraction() const {
   return valid_.empty() ? 0.0 : static_cast<double>(n) / static_cast<double>(valid_.size());
 }
 
-Image<float> Undistorter::Apply(const Image<float>& distorted) const {
+Image<float> Undistorter::Apply(const Image<float>& distorted) const { return Remap(distorted); }
+
+Image<float> Undistorter::Apply(const Image<uint8_t>& distorted) const { return Remap(distorted); }
+
+template <typename T>
+Image<float> Undistorter::Remap(const Image<T>& distorted) const {
   DSM_CHECK(distorted.width() == input_.width && distorted.height() == input_.height,
             "image size differs from the calibration");
   Image<float> out(output_.width, output_.height, 0.f);

@@ -42,13 +42,18 @@ class Undistorter {
   const Image<uint8_t>& valid_mask() const { return valid_; }
   double ValidFraction() const;
 
-  // Undistorts an image of the input size (checked).
+  // Undistorts an image of the input size (checked). An 8-bit input gives the same floats as its
+  // float copy would (every 8-bit value is exact in float), without the copy.
   Image<float> Apply(const Image<float>& distorted) const;
+  Image<float> Apply(const Image<uint8_t>& distorted) const;
 
   // Source pixel in the input image for output pixel (u, v).
   Eigen::Vector2d SourcePixel(double u, double v) const;
 
  private:
+  template <typename T>
+  Image<float> Remap(const Image<T>& distorted) const;
+
   CameraCalibration input_;
   PinholeCamera output_;
   bool pure_crop_ = false;  // Pinhole input: integer shift, no interpolation.

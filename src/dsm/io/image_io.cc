@@ -66,7 +66,14 @@ std::vector<uint8_t> ReadFile(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path, error)) throw InputError(path.string() + ": no such image file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot open the image");
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (!in || size < 0) throw InputError(path.string() + ": read error");
+  std::vector<uint8_t> bytes(static_cast<size_t>(size));
+  in.read(reinterpret_cast<char*>(bytes.data()), size);
+  // A file that shrank meanwhile reads short: what was read is decoded (and fails if cut).
+  bytes.resize(static_cast<size_t>(in.gcount()));
   if (in.bad()) throw InputError(path.string() + ": read error");
   return bytes;
 }

@@ -17,7 +17,7 @@ FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter
   FrameOrError out;
   try {
     const Image<uint8_t> raw = dataset.LoadImage(i);
-    out.image = undistorter.Apply(dataset.photometric ? dataset.photometric->ToIrradiance(raw) : ToFloat(raw));
+    out.image = dataset.photometric ? undistorter.Apply(dataset.photometric->ToIrradiance(raw)) : undistorter.Apply(raw);
   } catch (const InputError& e) {
     out.error = e.what();
   }
