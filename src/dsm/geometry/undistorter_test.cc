@@ -67,5 +67,29 @@ TEST(Undistorter, OddSizesAreCroppedToPyramidFriendlySizes) {
   EXPECT_EQ(out(1231, 367), in(1235, 371));
 }
 
+// An 8-bit frame undistorted directly gives the floats its float copy gives, bit for bit, in the
+// remap (radtan) and the crop (pinhole) paths.
+TEST(Undistorter, EightBitInputIsItsFloatCopy) {
+  const CameraCalibration cams[] = {
+      {CameraModel::kRadTan, 752, 480, 458.654, 457.296, 367.215, 248.375,
+       {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05}},
+      {CameraModel::kPinhole, 645, 482, 400.0, 400.0, 322.0, 240.0, {}},
+  };
+  for (const auto& cam : cams) {
+    const Undistorter und(cam, {UndistortMode::kCrop, 16});
+    Image<uint8_t> raw(cam.width, cam.height);
+    for (int v = 0; v < cam.height; ++v)
+      for (int u = 0; u < cam.width; ++u) raw(u, v) = static_cast<uint8_t>((u * 7 + v * 13 + u * v) % 256);
+    const Image<float> direct = und.Apply(raw), copied = und.Apply(ToFloat(raw));
+    ASSERT_EQ(direct.width(), copied.width());
+    ASSERT_EQ(direct.height(), copied.height());
+    int differ = 0;
+    for (int v = 0; v < direct.height(); ++v)
+      for (int u = 0; u < direct.width(); ++u) differ += direct(u, v) != copied(u, v);
+    EXPECT_EQ(differ, 0) << CameraModelName(cam.model);
+    EXPECT_NE(direct(direct.width() / 2, direct.height() / 2), 0.f);
+  }
+}
+
 }  // namespace
 }  // namespace dsm
