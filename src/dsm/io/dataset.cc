@@ -29,6 +29,10 @@ Image<uint8_t> Dataset::LoadImage(size_t i) const {
   return image;
 }
 
+void Dataset::PrefetchImage(size_t i) const {
+  if (i < frames.size()) images->Prefetch(frames[i].image);
+}
+
 Image<float> Dataset::LoadDepth(size_t i) const {
   DSM_CHECK(i < frames.size(), "frame index out of range");
   if (!HasDepth()) throw InputError(root.string() + ": the dataset has no depth");

@@ -51,6 +51,8 @@ struct Dataset {
   // Frame i as 8-bit grey; throws InputError naming the file when it is unreadable or its size
   // differs from the calibration.
   Image<uint8_t> LoadImage(size_t i) const;
+  // Frame i's file brought into memory in the background, ahead of its LoadImage (ImageStore).
+  void PrefetchImage(size_t i) const;
   // Depth of frame i in metres along the optical axis (0: nothing hit), in the calibration's
   // (distorted) pixels; throws InputError naming the file when it is missing or unreadable.
   Image<float> LoadDepth(size_t i) const;

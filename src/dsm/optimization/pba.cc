@@ -567,7 +567,7 @@ class Problem {
 }  // namespace
 
 PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options,
-                  const std::vector<int>& held) {
+                  const std::vector<int>& held, const PbaYield& yield) {
   const auto t0 = std::chrono::steady_clock::now();
   options.Validate();
   PbaSummary summary;
@@ -578,13 +578,14 @@ PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>&
   summary.observations = problem.NumObservations();
   if (problem.NumPoints() == 0) return summary;
   NormalEquations eq, trial_eq;
-  for (int level = options.levels - 1; level >= 0; --level) {
+  DSM_CHECK(yield.level < options.levels && yield.iterations >= 0, "an adjustment taken up where it never was");
+  for (int level = yield.level >= 0 ? yield.level : options.levels - 1; level >= 0 && !summary.yielded; --level) {
     problem.SetLevel(level);
     problem.FitModels();
     double lambda = options.initial_lambda;
     double energy = problem.Linearize(&eq);
     if (level == 0) summary.initial_energy = energy;
-    for (int it = 0; it < options.max_iterations; ++it) {
+    for (int it = level == yield.level ? yield.iterations : 0; it < options.max_iterations; ++it) {
       ++summary.iterations;
       const Problem::Backup backup = problem.Save();
       const Solution step = SolveSchur(eq, lambda);
@@ -601,11 +602,21 @@ PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>&
         lambda *= 8.0;
         if (lambda > 1e4 || converged) break;
       }
+      if (yield.now && (level > 0 || it + 1 < options.max_iterations) && yield.now()) {
+        // Taken up at this level's next iteration, or at the next level after its last.
+        const bool level_done = it + 1 == options.max_iterations;
+        summary.yielded = true;
+        summary.level = level_done ? level - 1 : level;
+        summary.level_iterations = level_done ? 0 : it + 1;
+        break;
+      }
     }
     summary.final_energy = energy;
   }
-  problem.FitModelsFromLinearization();  // At level 0, where the loop ended.
-  summary.observations_removed = problem.MarkOutliers();
+  if (!summary.yielded) {
+    problem.FitModelsFromLinearization();  // At level 0, where the loop ended.
+    summary.observations_removed = problem.MarkOutliers();
+  }
   summary.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return summary;
 }

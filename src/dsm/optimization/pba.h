@@ -24,6 +24,7 @@
 // are summed in a fixed order, so results do not depend on the thread schedule.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "dsm/geometry/camera.h"
@@ -66,8 +67,21 @@ struct PbaOptions {
   void Validate() const;  // Throws InputError naming the option.
 };
 
+// An adjustment that may stop between two iterations so that other work runs first, and be taken
+// up later where it stopped: every accepted step is in the map meanwhile, and the later call builds
+// its problem from the map as it is then.
+struct PbaYield {
+  std::function<bool()> now;  // Asked after every iteration but the last: true stops there.
+  int level = -1;             // Take up at this level (-1: start at the coarsest), ...
+  int iterations = 0;         // ... where this many of its iterations were done.
+};
+
 struct PbaSummary {
   int iterations = 0;
+  // Stopped by PbaYield::now at `level` after `level_iterations` of its iterations (the outlier
+  // marking and the models' final fit are left to the call that takes it up).
+  bool yielded = false;
+  int level = 0, level_iterations = 0;
   int keyframes = 0, fixed_keyframes = 0, points = 0, observations = 0;
   double initial_energy = 0.0, final_energy = 0.0;  // Of the finest level (same models), before / after.
   int observations_removed = 0;
@@ -77,6 +91,6 @@ struct PbaSummary {
 // Optimises the keyframes `active` (ids) and their points; the poses of those also in `held` stay
 // fixed (their points are optimised). Returns what it did.
 PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options,
-                  const std::vector<int>& held = {});
+                  const std::vector<int>& held = {}, const PbaYield& yield = {});
 
 }  // namespace dsm

@@ -53,6 +53,49 @@ TEST(Pba, RecoversPerturbedPosesAndDepths) {
               s.observations);
 }
 
+// An adjustment stopped between iterations (PbaYield) and taken up again where it stopped, part
+// after part, ends where one run through ends.
+TEST(Pba, AnAdjustmentTakenUpWhereItStoppedEndsWhereAWholeOneDoes) {
+  World whole, parts;
+  BuildWorld({0, 6, 12, 18}, &whole);
+  BuildWorld({0, 6, 12, 18}, &parts);
+  Perturb(&whole);
+  Perturb(&parts);
+  ASSERT_EQ(whole.map.keyframe(2).cam_from_world.Matrix(), parts.map.keyframe(2).cam_from_world.Matrix());
+  const PbaOptions options;
+  const PbaSummary one = RunPba(&whole.map, whole.seq.camera, {0, 1, 2, 3}, options);
+  ASSERT_FALSE(one.yielded);
+
+  int asked = 0;
+  PbaYield yield;
+  yield.now = [&asked] { return ++asked % 3 == 0; };  // Stops after every third iteration.
+  PbaSummary s = RunPba(&parts.map, parts.seq.camera, {0, 1, 2, 3}, options, {}, yield);
+  ASSERT_TRUE(s.yielded);
+  EXPECT_EQ(s.iterations, 3);
+  EXPECT_EQ(s.level, options.levels - 1);
+  EXPECT_EQ(s.level_iterations, 3);
+  EXPECT_EQ(s.observations_removed, 0);  // Left to the part that ends it.
+  int pieces = 1;
+  while (s.yielded && pieces < 50) {
+    yield.level = s.level;
+    yield.iterations = s.level_iterations;
+    s = RunPba(&parts.map, parts.seq.camera, {0, 1, 2, 3}, options, {}, yield);
+    ++pieces;
+  }
+  EXPECT_FALSE(s.yielded);
+  EXPECT_GE(pieces, 3);
+  for (int k = 1; k < 4; ++k) {
+    const SE3d& a = whole.map.keyframe(k).cam_from_world;
+    const SE3d& b = parts.map.keyframe(k).cam_from_world;
+    std::printf("keyframe %d: %d parts, centres %.2e m apart, %.2e deg; %.2e deg from the truth\n", k, pieces,
+                (a.Inverse().Translation() - b.Inverse().Translation()).norm(), RotationErrorDeg(a, b),
+                RotationErrorDeg(b, parts.true_cam_from_world[k]));
+    EXPECT_LT((a.Inverse().Translation() - b.Inverse().Translation()).norm(), 5e-4) << "keyframe " << k;
+    EXPECT_LT(RotationErrorDeg(a, b), 0.01) << "keyframe " << k;
+    EXPECT_LT(RotationErrorDeg(b, parts.true_cam_from_world[k]), 0.05) << "keyframe " << k;
+  }
+}
+
 TEST(Pba, HeldKeyframesKeepTheirPosesWhileTheirPointsMove) {
   World w;
   BuildWorld({0, 6, 12, 18}, &w);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/run/frame_reader.h"
 
+#include <algorithm>
+
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -39,10 +41,16 @@ FrameReader::~FrameReader() {
   thread_.join();
 }
 
+void FramePrefetch::Reading(int i) {
+  next_ = std::max(next_, i + 1);
+  for (; next_ < std::min(end_, i + kFrames + 1); ++next_) dataset_.PrefetchImage(next_);
+}
+
 void FrameReader::Loop() {
   // Below the tracking and mapping threads (nice 10, this thread only): reading fills their idle
   // time instead of taking a core from them. Best effort: a failure leaves the default priority.
   setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
+  FramePrefetch prefetch(dataset_, end_);
   for (int i = start_; i < end_; ++i) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
@@ -50,6 +58,7 @@ void FrameReader::Loop() {
       if (stop_) return;
     }
     bool failed = false;
+    prefetch.Reading(i);
     try {
       FrameOrError frame = TryReadFrame(dataset_, undistorter_, i);
       std::lock_guard<std::mutex> lock(mutex_);

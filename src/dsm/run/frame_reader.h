@@ -35,6 +35,22 @@ FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter
 // size that divides by 2^(pyramid_levels - 1).
 Undistorter FrameUndistorter(const Dataset& dataset, const SystemOptions& options);
 
+// The files of the frames after the one being read, asked into memory ahead of it
+// (Dataset::PrefetchImage): a recording replayed as a live camera, or read at full speed, does not
+// wait for the disk where a file was paged out since it was last read.
+class FramePrefetch {
+ public:
+  static constexpr int kFrames = 10;
+  FramePrefetch(const Dataset& dataset, int end) : dataset_(dataset), end_(end) {}
+  // Frame i is read now: frames up to i + kFrames are asked for (each once).
+  void Reading(int i);
+
+ private:
+  const Dataset& dataset_;
+  const int end_;
+  int next_ = -1;
+};
+
 class FrameReader {
  public:
   // Reads frames start .. end-1 (the dataset and undistorter must outlive the reader).

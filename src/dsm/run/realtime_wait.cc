@@ -15,7 +15,14 @@ RealtimeWait::Clock::duration Ms(double ms) {
 }  // namespace
 
 RealtimeWait::Clock::time_point RealtimeWait::Deadline(Clock::time_point released,
+                                                       std::optional<Clock::time_point> release_next,
                                                        std::optional<Clock::time_point> release_after_next) const {
+  const Clock::time_point limit = Limit(released, release_after_next);
+  return release_next ? std::min(limit, *release_next) : limit;
+}
+
+RealtimeWait::Clock::time_point RealtimeWait::Limit(Clock::time_point released,
+                                                    std::optional<Clock::time_point> release_after_next) const {
   if (!(target_ms_ > 0.0)) return released;
   const bool bounded = std::isfinite(target_ms_);
   const double busy = (busy_ms_.empty() ? 0.0 : *std::max_element(busy_ms_.begin(), busy_ms_.end())) + kMarginMs;

@@ -174,6 +174,7 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     all.keyframe_waits += s.keyframe_waits;
     all.keyframe_wait_timeouts += s.keyframe_wait_timeouts;
     all.keyframe_retracks += s.keyframe_retracks;
+    all.adjustments_yielded += s.adjustments_yielded;
     all.brightness_holds += s.brightness_holds;
     all.pyramids_rebuilt += s.pyramids_rebuilt;
     all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);
@@ -223,6 +224,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   SystemOptions system_options = options.system;
   system_options.threaded = options.pace != Pace::kSequential;
   system_options.wait_for_mapping = options.pace != Pace::kRealtime;
+  system_options.yield_adjustments = options.pace == Pace::kRealtime;
   system_options.map_snapshots = options.view_port >= 0;
   const Undistorter undistorter = FrameUndistorter(dataset, options.system);
   const auto map_dir = [&](size_t index) { return index == 0 ? out_dir : out_dir / ("map_" + std::to_string(index)); };
@@ -245,6 +247,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   // once released (a live camera cannot be read ahead).
   std::optional<FrameReader> reader;
   if (options.pace != Pace::kRealtime) reader.emplace(dataset, undistorter, options.start, end, 2);
+  FramePrefetch prefetch(dataset, end);  // Realtime: the reader's, on this thread.
   // Frame release (free, sequential: the reader hands it over) to its first pose (System::
   // SetPoseListener; a frame without one: to the end of its processing), and to the pose the run
   // keeps (after any wait for a keyframe being mapped).
@@ -273,7 +276,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   shown.total = end - options.start;
   TrackingStatus last_status = TrackingStatus::kInitializing;
   RealtimeWait realtime_wait(options.realtime_latency_target_ms);
-  nlohmann::json per_frame = {{"frame", nlohmann::json::array()}, {"tracking_ms", nlohmann::json::array()}};
+  nlohmann::json per_frame = {
+      {"frame", nlohmann::json::array()}, {"tracking_ms", nlohmann::json::array()}, {"wait_ms", nlohmann::json::array()}};
   // A frame settled in map `s.map` (map_set.h): its events, diagnostics and progress.
   const auto settle = [&](const MapSet::Settled& s) {
     const FrameReport& r = s.report;
@@ -290,6 +294,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     last_status = r.status;
     per_frame["frame"].push_back(i);
     per_frame["tracking_ms"].push_back(r.tracking_ms);
+    per_frame["wait_ms"].push_back(r.wait_ms);
     shown.frame = i;
     shown.done = i + 1 - options.start;
     shown.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - process0).count();
@@ -317,6 +322,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       released = release(i);
       taken = std::chrono::steady_clock::now();  // Not before its release (slept until then).
     }
+    if (!reader) prefetch.Reading(i);
     const FrameOrError frame = reader ? reader->Take(i) : TryReadFrame(dataset, undistorter, i);
     last_frame = i;
     if (!frame.error.empty()) {
@@ -328,7 +334,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     }
     if (reader) released = std::chrono::steady_clock::now();
     std::optional<std::chrono::steady_clock::time_point> wait_until;
-    if (taken) wait_until = realtime_wait.Deadline(released, i + 2 < end ? std::optional(release(i + 2)) : std::nullopt);
+    if (taken) {
+      wait_until = realtime_wait.Deadline(released, i + 1 < end ? std::optional(release(i + 1)) : std::nullopt,
+                                          i + 2 < end ? std::optional(release(i + 2)) : std::nullopt);
+    }
     first_posed.reset();
     const std::vector<MapSet::Settled> settled =
         map_set.Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms, wait_until);
@@ -426,6 +435,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["keyframe_waits"] = s.keyframe_waits;
   summary.stats["keyframe_wait_timeouts"] = s.keyframe_wait_timeouts;
   summary.stats["keyframe_retracks"] = s.keyframe_retracks;
+  summary.stats["adjustments_yielded"] = s.adjustments_yielded;
   summary.stats["brightness_holds"] = s.brightness_holds;
   summary.stats["frames_posed_before_wait"] = posed_before_wait;
   summary.stats["pyramids_rebuilt"] = s.pyramids_rebuilt;

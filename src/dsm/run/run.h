@@ -40,9 +40,10 @@ struct RunOptions {
   bool quiet = false;  // No progress and no event lines on stdout.
   // Progress (progress.h) when stdout is not a terminal: a line every this many seconds.
   double progress_interval_s = 10.0;
-  // Realtime pace: frames wait for a keyframe still being mapped (System::Process wait_until), never
-  // so long that a frame is dropped, and, with a finite target, while all but a few keep their
-  // latency within it (realtime_wait.h). 0: never wait (frames track against the previous keyframe).
+  // Realtime pace: frames wait for a keyframe still being mapped (System::Process wait_until)
+  // until the next frame comes, never so long that a frame is dropped, and, with a finite target,
+  // while all but a few keep their latency within it (realtime_wait.h). 0: never wait (frames
+  // track against the previous keyframe).
   double realtime_latency_target_ms = std::numeric_limits<double>::infinity();
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
   bool write_map = true;   // map.ply and keyframes.ply beside the trajectories.

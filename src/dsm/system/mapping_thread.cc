@@ -18,11 +18,12 @@ MappingThread::~MappingThread() {
   thread_.join();
 }
 
-void MappingThread::Submit(Job job, bool keyframe) {
+void MappingThread::Submit(Job job, bool keyframe, Job then) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     RethrowLocked();
     queue_.push_back({std::move(job), keyframe});
+    if (then) queue_.push_back({std::move(then), false});
     if (keyframe) keyframe_queue_max_ = std::max(keyframe_queue_max_, ++keyframes_pending_);
   }
   work_.notify_one();

@@ -26,8 +26,8 @@ class MappingThread {
   MappingThread(const MappingThread&) = delete;
   MappingThread& operator=(const MappingThread&) = delete;
 
-  // Queues a job; `keyframe` jobs are counted until they finish.
-  void Submit(Job job, bool keyframe);
+  // Queues a job, and `then` (if any) right behind it; `keyframe` jobs are counted until they finish.
+  void Submit(Job job, bool keyframe, Job then = nullptr);
   // Keyframe jobs queued or running.
   int KeyframesPending() const;
   // Blocks until no keyframe job is queued or running.

@@ -2,6 +2,8 @@
 #include "dsm/system/mapping_thread.h"
 
 #include <future>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -24,6 +26,28 @@ TEST(MappingThread, BoundedWaitForKeyframes) {
   // Nothing pending: true at once, even with a deadline already past.
   EXPECT_TRUE(thread.WaitForKeyframesUntil(std::chrono::steady_clock::now() - std::chrono::seconds(1)));
   thread.WaitUntilIdle();
+}
+
+// A job's `then` runs right behind it, before anything queued meanwhile by the job itself (as an
+// adjustment that yields to the keyframe queues its rest: System::Adjust).
+TEST(MappingThread, AJobsFollowUpRunsRightBehindIt) {
+  MappingThread thread;
+  std::vector<char> order;  // Written by the mapping thread only, read after WaitUntilIdle.
+  std::promise<void> go;
+  std::shared_future<void> started = go.get_future().share();
+  thread.Submit(
+      [&] {
+        started.wait();
+        thread.Submit([&] { order.push_back('r'); }, false);  // Queued from within a running job.
+        order.push_back('a');
+      },
+      false);
+  thread.Submit([&] { order.push_back('k'); }, /*keyframe=*/true, [&] { order.push_back('f'); });
+  EXPECT_EQ(thread.KeyframesPending(), 1);  // The keyframe job only, not its follow-up.
+  go.set_value();
+  thread.WaitUntilIdle();
+  EXPECT_EQ(std::string(order.begin(), order.end()), "akfr");
+  EXPECT_EQ(thread.KeyframesPending(), 0);
 }
 
 }  // namespace

@@ -283,8 +283,11 @@ void System::Submit(MappingJob job) {
   }
   // A keyframe is done for the tracking side once its reference is published (the first job);
   // its candidates are selected after, while tracking goes on (the second, before any later job).
-  mapping_thread_->Submit([this, job = std::move(job)] { RunJob(job); }, kf >= 0);
-  if (kf >= 0) mapping_thread_->Submit([this, kf] { RunFinishJob(kf); }, false);
+  if (kf < 0) {
+    mapping_thread_->Submit([this, job = std::move(job)] { RunJob(job); }, false);
+  } else {
+    mapping_thread_->Submit([this, job = std::move(job)] { RunJob(job); }, true, [this, kf] { RunFinishJob(kf); });
+  }
 }
 
 void System::RunFinishJob(int kf) {

@@ -113,6 +113,9 @@ struct SystemStats {
   int keyframe_wait_timeouts = 0;   // Of those, the ones that gave up at their deadline (wait_until).
   // Frames that failed against the keyframe before a pending one and were tracked again against it.
   int keyframe_retracks = 0;
+  // Young map's and loop adjustments that stopped for a keyframe waiting to be mapped (taken up
+  // after it; System::Adjust).
+  int adjustments_yielded = 0;
   // Trackings redone with the brightness held: the contrast changed more than exposure can
   // (TrackerOptions::max_alpha_step).
   int brightness_holds = 0;
@@ -324,7 +327,21 @@ class System {
   // Maps keyframe kf and publishes it as the tracking reference.
   void MapNewKeyframe(int kf);
   // One bundle adjustment of every keyframe (keyframe 0 fixed) and point.
-  PbaSummary AdjustWholeMap();
+  PbaSummary AdjustWholeMap(const PbaYield& yield = {});
+  // A young map's or loop bundle adjustment (AdjustYoungMap, AdjustLoop). Threaded, it stops for a
+  // keyframe waiting to be mapped and is taken up after it, as another mapping job: a whole-map
+  // adjustment of the young map takes about a second, which the next keyframe, and the frames
+  // tracked against the one before it, would otherwise wait through (in the realtime pace, frames
+  // dropped while a frame that failed against the old keyframe waited for the new one).
+  struct Adjustment {
+    bool young = false;                // All keyframes at the time each part runs (AdjustWholeMap).
+    std::vector<int> keyframes, held;  // Else these (RunPba's active and held).
+    PbaOptions options;
+    size_t log = 0;   // The stats_.per_keyframe entry of the keyframe it follows.
+    size_t stat = 0;  // Its entry in stats_.young_map_ba_ms or stats_.loop_ba_ms.
+    int level = -1, iterations = 0;  // Where to take it up (PbaYield).
+  };
+  void Adjust(Adjustment a);
   // The loop bundle adjustment (SystemOptions::loop_ba_min_gap, loop_ba_after_relocalisation)
   // after keyframe `newest` is published (FinishKeyframe), when due; true when it ran.
   bool AdjustLoop(int newest);

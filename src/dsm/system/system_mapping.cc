@@ -14,6 +14,7 @@
 #include "dsm/mapping/projection.h"
 #include "dsm/mapping/window.h"
 #include "dsm/optimization/pba.h"
+#include "dsm/system/mapping_thread.h"
 #include "dsm/system/system.h"
 #include "dsm/tracking/frame_tracker.h"
 
@@ -106,14 +107,44 @@ void System::MapNewKeyframe(int kf) {
 
 bool System::AdjustYoungMap() {
   if (!options_.YoungMapBaDue(map_.NumKeyframes())) return false;
-  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
-  log.young_map_ba_keyframes = map_.NumKeyframes();
-  const PbaSummary summary = AdjustWholeMap();
-  log.young_map_ba_ms = summary.time_ms;
-  log.young_map_ba_iterations = summary.iterations;
-  log.young_map_ba_observations = summary.observations;
-  stats_.young_map_ba_ms.push_back(log.young_map_ba_ms);
+  Adjustment a;
+  a.young = true;
+  a.options = options_.pba;
+  a.log = stats_.per_keyframe.size() - 1;
+  a.stat = stats_.young_map_ba_ms.size();
+  stats_.per_keyframe.back().young_map_ba_keyframes = map_.NumKeyframes();
+  stats_.young_map_ba_ms.push_back(0.0);
+  Adjust(std::move(a));
   return true;
+}
+
+void System::Adjust(Adjustment a) {
+  PbaYield yield;
+  if (mapping_thread_ && options_.yield_adjustments) yield.now = [this] { return mapping_thread_->KeyframesPending() > 0; };
+  yield.level = a.level;
+  yield.iterations = a.iterations;
+  const PbaSummary s = a.young ? AdjustWholeMap(yield) : RunPba(&map_, camera_, a.keyframes, a.options, a.held, yield);
+  SystemStats::KeyframeLog& log = stats_.per_keyframe[a.log];
+  if (a.young) {
+    log.young_map_ba_ms += s.time_ms;
+    log.young_map_ba_iterations += s.iterations;
+    log.young_map_ba_observations = s.observations;
+    stats_.young_map_ba_ms[a.stat] += s.time_ms;
+  } else {
+    log.loop_ba_ms += s.time_ms;
+    stats_.loop_ba_ms[a.stat] += s.time_ms;
+  }
+  if (!s.yielded) return;
+  ++stats_.adjustments_yielded;
+  a.level = s.level;
+  a.iterations = s.level_iterations;
+  // Behind the waiting keyframe's jobs (System::Submit queues both at once), then published again.
+  mapping_thread_->Submit(
+      [this, a = std::move(a)] {
+        Adjust(a);
+        PublishTrackingReference();
+      },
+      false);
 }
 
 bool System::AdjustLoop(int newest) {
@@ -130,14 +161,17 @@ bool System::AdjustLoop(int newest) {
   std::vector<int> keyframes = covisible_, held = covisible_;
   for (int k = first; k <= newest; ++k)
     if (std::find(covisible_.begin(), covisible_.end(), k) == covisible_.end()) keyframes.push_back(k);
-  PbaOptions pba_options = options_.pba;
-  if (options_.loop_ba_max_iterations > 0) pba_options.max_iterations = options_.loop_ba_max_iterations;
-  const PbaSummary pba = RunPba(&map_, camera_, keyframes, pba_options, held);
+  Adjustment a;
+  a.options = options_.pba;
+  if (options_.loop_ba_max_iterations > 0) a.options.max_iterations = options_.loop_ba_max_iterations;
+  a.log = stats_.per_keyframe.size() - 1;
+  a.stat = stats_.loop_ba_ms.size();
+  stats_.per_keyframe.back().loop_ba_keyframes = static_cast<int>(keyframes.size() - held.size());
+  stats_.loop_ba_ms.push_back(0.0);
+  a.keyframes = std::move(keyframes);
+  a.held = std::move(held);
   last_loop_ba_ = newest;
-  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
-  log.loop_ba_keyframes = static_cast<int>(keyframes.size() - held.size());
-  log.loop_ba_ms = pba.time_ms;
-  stats_.loop_ba_ms.push_back(pba.time_ms);
+  Adjust(std::move(a));
   return true;
 }
 
@@ -197,10 +231,10 @@ void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
   stats_.reobservations += log.reobservations;
 }
 
-PbaSummary System::AdjustWholeMap() {
+PbaSummary System::AdjustWholeMap(const PbaYield& yield) {
   std::vector<int> all(map_.NumKeyframes());
   for (int k = 0; k < map_.NumKeyframes(); ++k) all[k] = k;
-  return RunPba(&map_, camera_, all, options_.pba);
+  return RunPba(&map_, camera_, all, options_.pba, {}, yield);
 }
 
 void System::RunGlobalBundleAdjustment() {
