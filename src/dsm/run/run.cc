@@ -225,6 +225,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   system_options.threaded = options.pace != Pace::kSequential;
   system_options.wait_for_mapping = options.pace != Pace::kRealtime;
   system_options.yield_adjustments = options.pace == Pace::kRealtime;
+  system_options.keyframe_features = options.pace == Pace::kRealtime;
   system_options.map_snapshots = options.view_port >= 0;
   const Undistorter undistorter = FrameUndistorter(dataset, options.system);
   const auto map_dir = [&](size_t index) { return index == 0 ? out_dir : out_dir / ("map_" + std::to_string(index)); };

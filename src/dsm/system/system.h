@@ -425,7 +425,10 @@ class System {
   std::optional<Tentative> tentative_;  // Set from a relocalisation until the next frame confirms it.
   std::deque<Sighting> sightings_;      // Of the last lost frames (at most two), oldest first.
   bool wait_after_relocalisation_ = false;  // The next frame waits for the confirming keyframe.
-  // ORB features of the keyframes relocalisation ranked, computed on first use.
+  // ORB features of the keyframes relocalisation ranked, computed on first use, or by the mapping
+  // side for every keyframe (SystemOptions::keyframe_features). Written by the mapping side only
+  // in its jobs, read and written by the tracking side only while lost, after the mapping side went
+  // idle (Relocalise; nothing is handed to it while lost).
   std::map<int, OrbFeatures> keyframe_features_;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.
 };

@@ -16,6 +16,7 @@
 #include "dsm/optimization/pba.h"
 #include "dsm/system/mapping_thread.h"
 #include "dsm/system/system.h"
+#include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
 
 namespace dsm {
@@ -184,6 +185,9 @@ void System::FinishKeyframe(int kf) {
   bool adjusted = AdjustYoungMap();
   if (AdjustLoop(kf)) adjusted = true;
   if (adjusted) PublishTrackingReference();
+  if (options_.keyframe_features && mapping_thread_) {
+    keyframe_features_.emplace(kf, DetectOrbFeatures(map_.keyframe(kf).Level0(), {}));
+  }
   // Keyframes keep their pyramids while a recent mapping step used them.
   map_.ReleaseUnusedPyramids(options_.keep_pyramid_keyframes);
   stats_.pyramids_loaded_max = std::max(stats_.pyramids_loaded_max, map_.NumLoadedPyramids());
