@@ -18,14 +18,17 @@ RealtimeWait::Clock::time_point RealtimeWait::Deadline(Clock::time_point release
                                                        std::optional<Clock::time_point> release_next,
                                                        std::optional<Clock::time_point> release_after_next) const {
   const Clock::time_point limit = Limit(released, release_after_next);
-  return release_next ? std::min(limit, *release_next) : limit;
+  if (!release_next) return limit;
+  const double first_pose = first_pose_ms_.empty() ? 0.0 : *std::max_element(first_pose_ms_.begin(), first_pose_ms_.end());
+  const double slack = std::max(0.0, kNextFirstPoseMs - BusyMs() - first_pose);
+  return std::min(limit, *release_next + Ms(slack));
 }
 
 RealtimeWait::Clock::time_point RealtimeWait::Limit(Clock::time_point released,
                                                     std::optional<Clock::time_point> release_after_next) const {
   if (!(target_ms_ > 0.0)) return released;
   const bool bounded = std::isfinite(target_ms_);
-  const double busy = (busy_ms_.empty() ? 0.0 : *std::max_element(busy_ms_.begin(), busy_ms_.end())) + kMarginMs;
+  const double busy = BusyMs();
   const Clock::time_point within_target = bounded ? released + Ms(target_ms_ - busy) : released;
   if (!release_after_next) return within_target;
   const Clock::time_point no_drop = *release_after_next - Ms(busy);
@@ -34,9 +37,15 @@ RealtimeWait::Clock::time_point RealtimeWait::Limit(Clock::time_point released,
   return static_cast<double>(long_ones) < kLongShare * kLatencyWindow ? no_drop : std::min(no_drop, within_target);
 }
 
-void RealtimeWait::Record(double latency_ms, double busy_ms) {
+double RealtimeWait::BusyMs() const {
+  return (busy_ms_.empty() ? 0.0 : *std::max_element(busy_ms_.begin(), busy_ms_.end())) + kMarginMs;
+}
+
+void RealtimeWait::Record(double latency_ms, double busy_ms, double first_pose_ms) {
   busy_ms_.push_back(busy_ms);
   if (busy_ms_.size() > kRecentFrames) busy_ms_.pop_front();
+  first_pose_ms_.push_back(first_pose_ms);
+  if (first_pose_ms_.size() > kRecentFrames) first_pose_ms_.pop_front();
   latency_ms_.push_back(latency_ms);
   if (latency_ms_.size() > kLatencyWindow) latency_ms_.pop_front();
 }

@@ -353,7 +353,9 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       const double busy = r && r->wait_end
                               ? std::chrono::duration<double, std::milli>(posed - *r->wait_end).count()
                               : std::chrono::duration<double, std::milli>(posed - *taken).count() - (r ? r->wait_ms : 0.0);
-      realtime_wait.Record(latency_final_ms.back(), busy);  // The target bounds the waits: the kept pose's.
+      // The target bounds the waits: the kept pose's latency.
+      realtime_wait.Record(latency_final_ms.back(), busy,
+                           std::chrono::duration<double, std::milli>(first_posed.value_or(posed) - *taken).count());
     }
     for (const MapSet::Settled& st : settled) settle(st);
     if (map_set.current().NeedsNewMap() && i + 1 < end) {

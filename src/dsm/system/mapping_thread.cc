@@ -52,10 +52,17 @@ bool MappingThread::WaitForKeyframesUntil(std::chrono::steady_clock::time_point 
   return none;
 }
 
-void MappingThread::WaitUntilIdle() {
+void MappingThread::WaitUntilIdle(bool urgent) {
   std::unique_lock<std::mutex> lock(mutex_);
+  if (urgent) ++urgent_waiters_;
   done_.wait(lock, [this] { return (queue_.empty() && !running_) || error_; });
+  if (urgent) --urgent_waiters_;
   RethrowLocked();
+}
+
+bool MappingThread::Urgent() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return urgent_waiters_ > 0;
 }
 
 void MappingThread::RethrowLocked() {

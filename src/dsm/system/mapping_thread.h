@@ -34,8 +34,11 @@ class MappingThread {
   void WaitForKeyframes();
   // The same, but no later than `deadline`; true when none is left.
   bool WaitForKeyframesUntil(std::chrono::steady_clock::time_point deadline);
-  // Blocks until every job handed over has finished.
-  void WaitUntilIdle();
+  // Blocks until every job handed over has finished. `urgent`: the caller needs the mapping side
+  // idle now (a relocalisation); long jobs ask Urgent() and stop early.
+  void WaitUntilIdle(bool urgent = false);
+  // Someone waits in WaitUntilIdle(urgent).
+  bool Urgent() const;
   // The largest number of keyframe jobs queued or running at once.
   int KeyframeQueueMax() const;
 
@@ -52,6 +55,7 @@ class MappingThread {
   std::deque<Entry> queue_;
   bool running_ = false, stop_ = false;
   int keyframes_pending_ = 0, keyframe_queue_max_ = 0;
+  int urgent_waiters_ = 0;
   std::exception_ptr error_;
   std::thread thread_;
 };

@@ -358,6 +358,13 @@ void System::UpdateReference(bool wait) {
 void System::Finish() {
   if (mapping_thread_) {
     mapping_thread_->WaitUntilIdle();
+    // The run ended lost, with an adjustment stopped for a relocalisation: it ends now.
+    mapping_thread_->Submit(
+        [this] {
+          if (RunParked()) PublishTrackingReference();
+        },
+        false);
+    mapping_thread_->WaitUntilIdle();
     stats_.keyframe_queue_max = mapping_thread_->KeyframeQueueMax();
   }
   TrackInitFrames();  // When the run ended before the map matured.

@@ -342,6 +342,8 @@ class System {
     int level = -1, iterations = 0;  // Where to take it up (PbaYield).
   };
   void Adjust(Adjustment a);
+  // Runs the rest of the adjustments that stopped for a relocalisation; true when there were any.
+  bool RunParked();
   // The loop bundle adjustment (SystemOptions::loop_ba_min_gap, loop_ba_after_relocalisation)
   // after keyframe `newest` is published (FinishKeyframe), when due; true when it ran.
   bool AdjustLoop(int newest);
@@ -430,6 +432,8 @@ class System {
   // in its jobs, read and written by the tracking side only while lost, after the mapping side went
   // idle (Relocalise; nothing is handed to it while lost).
   std::map<int, OrbFeatures> keyframe_features_;
+  // Mapping side: adjustments stopped for a relocalisation, taken up after the next keyframe.
+  std::vector<Adjustment> parked_;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.
 };
 

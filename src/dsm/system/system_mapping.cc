@@ -119,9 +119,18 @@ bool System::AdjustYoungMap() {
   return true;
 }
 
+bool System::RunParked() {
+  std::vector<Adjustment> parked;
+  parked.swap(parked_);
+  for (Adjustment& a : parked) Adjust(std::move(a));
+  return !parked.empty();
+}
+
 void System::Adjust(Adjustment a) {
   PbaYield yield;
-  if (mapping_thread_ && options_.yield_adjustments) yield.now = [this] { return mapping_thread_->KeyframesPending() > 0; };
+  if (mapping_thread_ && options_.yield_adjustments) {
+    yield.now = [this] { return mapping_thread_->KeyframesPending() > 0 || mapping_thread_->Urgent(); };
+  }
   yield.level = a.level;
   yield.iterations = a.iterations;
   const PbaSummary s = a.young ? AdjustWholeMap(yield) : RunPba(&map_, camera_, a.keyframes, a.options, a.held, yield);
@@ -139,6 +148,12 @@ void System::Adjust(Adjustment a) {
   ++stats_.adjustments_yielded;
   a.level = s.level;
   a.iterations = s.level_iterations;
+  if (mapping_thread_->KeyframesPending() == 0) {
+    // A relocalisation waits for the mapping side to be idle (nothing is handed to it while lost):
+    // the rest runs after the next keyframe (FinishKeyframe), or at the end (Finish).
+    parked_.push_back(std::move(a));
+    return;
+  }
   // Behind the waiting keyframe's jobs (System::Submit queues both at once), then published again.
   mapping_thread_->Submit(
       [this, a = std::move(a)] {
@@ -182,7 +197,8 @@ void System::FinishKeyframe(int kf) {
   // The young map's and the loop adjustments after publication (in the two-thread paces tracking
   // goes on against the new keyframe meanwhile), then the keyframe published again, adjusted
   // (UpdateReference keeps the frames' poses relative to it).
-  bool adjusted = AdjustYoungMap();
+  bool adjusted = RunParked();
+  if (AdjustYoungMap()) adjusted = true;
   if (AdjustLoop(kf)) adjusted = true;
   if (adjusted) PublishTrackingReference();
   if (options_.keyframe_features && mapping_thread_) {

@@ -72,7 +72,7 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
 bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
                         TrackResult* result, SE3d* velocity, std::string* reason) {
   // The map is read below: the mapping side must be idle (nothing is handed to it while lost).
-  if (mapping_thread_) mapping_thread_->WaitUntilIdle();
+  if (mapping_thread_) mapping_thread_->WaitUntilIdle(/*urgent=*/true);
   UpdateReference(false);
   const int ref = reference_->keyframe;
   // The last trusted frame, in the world and in absolute brightness, as the map has it now.
