@@ -12,6 +12,8 @@ RealtimeWait::Clock::duration Ms(double ms) {
   return std::chrono::duration_cast<RealtimeWait::Clock::duration>(std::chrono::duration<double, std::milli>(ms));
 }
 
+double Longest(const std::deque<double>& ms) { return ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end()); }
+
 }  // namespace
 
 RealtimeWait::Clock::time_point RealtimeWait::Deadline(Clock::time_point released,
@@ -19,8 +21,7 @@ RealtimeWait::Clock::time_point RealtimeWait::Deadline(Clock::time_point release
                                                        std::optional<Clock::time_point> release_after_next) const {
   const Clock::time_point limit = Limit(released, release_after_next);
   if (!release_next) return limit;
-  const double first_pose = first_pose_ms_.empty() ? 0.0 : *std::max_element(first_pose_ms_.begin(), first_pose_ms_.end());
-  const double slack = std::max(0.0, kNextFirstPoseMs - BusyMs() - first_pose);
+  const double slack = std::max(0.0, kNextFirstPoseMs - BusyMs() - Longest(first_pose_ms_));
   return std::min(limit, *release_next + Ms(slack));
 }
 
@@ -38,7 +39,7 @@ RealtimeWait::Clock::time_point RealtimeWait::Limit(Clock::time_point released,
 }
 
 double RealtimeWait::BusyMs() const {
-  return (busy_ms_.empty() ? 0.0 : *std::max_element(busy_ms_.begin(), busy_ms_.end())) + kMarginMs;
+  return Longest(busy_ms_) + kMarginMs;
 }
 
 void RealtimeWait::Record(double latency_ms, double busy_ms, double first_pose_ms) {

@@ -113,8 +113,8 @@ struct SystemStats {
   int keyframe_wait_timeouts = 0;   // Of those, the ones that gave up at their deadline (wait_until).
   // Frames that failed against the keyframe before a pending one and were tracked again against it.
   int keyframe_retracks = 0;
-  // Young map's and loop adjustments that stopped for a keyframe waiting to be mapped (taken up
-  // after it; System::Adjust).
+  // Young map's and loop adjustments that stopped for a keyframe waiting to be mapped or a
+  // relocalisation (taken up after it; System::Adjust).
   int adjustments_yielded = 0;
   // Trackings redone with the brightness held: the contrast changed more than exposure can
   // (TrackerOptions::max_alpha_step).
@@ -327,14 +327,17 @@ class System {
   // Maps keyframe kf and publishes it as the tracking reference.
   void MapNewKeyframe(int kf);
   // One bundle adjustment of every keyframe (keyframe 0 fixed) and point.
-  PbaSummary AdjustWholeMap(const PbaYield& yield = {});
-  // A young map's or loop bundle adjustment (AdjustYoungMap, AdjustLoop). Threaded, it stops for a
-  // keyframe waiting to be mapped and is taken up after it, as another mapping job: a whole-map
-  // adjustment of the young map takes about a second, which the next keyframe, and the frames
-  // tracked against the one before it, would otherwise wait through (in the realtime pace, frames
-  // dropped while a frame that failed against the old keyframe waited for the new one).
+  PbaSummary AdjustWholeMap();
+  std::vector<int> AllKeyframes() const;  // 0 .. NumKeyframes() - 1.
+  // A young map's or loop bundle adjustment (AdjustYoungMap, AdjustLoop). Threaded
+  // (SystemOptions::yield_adjustments), it stops for a keyframe waiting to be mapped and is taken
+  // up after it, as another mapping job, and for a relocalisation waiting for the mapping side to
+  // be idle, taken up after the next keyframe (parked_): a whole-map adjustment of the young map
+  // takes about a second, which the next keyframe, and the frames tracked against the one before
+  // it, would otherwise wait through (in the realtime pace, frames dropped while a frame that
+  // failed against the old keyframe waited for the new one).
   struct Adjustment {
-    bool young = false;                // All keyframes at the time each part runs (AdjustWholeMap).
+    bool young = false;                // All keyframes at the time each part runs.
     std::vector<int> keyframes, held;  // Else these (RunPba's active and held).
     PbaOptions options;
     size_t log = 0;   // The stats_.per_keyframe entry of the keyframe it follows.

@@ -133,7 +133,7 @@ void System::Adjust(Adjustment a) {
   }
   yield.level = a.level;
   yield.iterations = a.iterations;
-  const PbaSummary s = a.young ? AdjustWholeMap(yield) : RunPba(&map_, camera_, a.keyframes, a.options, a.held, yield);
+  const PbaSummary s = RunPba(&map_, camera_, a.young ? AllKeyframes() : a.keyframes, a.options, a.held, yield);
   SystemStats::KeyframeLog& log = stats_.per_keyframe[a.log];
   if (a.young) {
     log.young_map_ba_ms += s.time_ms;
@@ -251,11 +251,13 @@ void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
   stats_.reobservations += log.reobservations;
 }
 
-PbaSummary System::AdjustWholeMap(const PbaYield& yield) {
+std::vector<int> System::AllKeyframes() const {
   std::vector<int> all(map_.NumKeyframes());
   for (int k = 0; k < map_.NumKeyframes(); ++k) all[k] = k;
-  return RunPba(&map_, camera_, all, options_.pba, {}, yield);
+  return all;
 }
+
+PbaSummary System::AdjustWholeMap() { return RunPba(&map_, camera_, AllKeyframes(), options_.pba); }
 
 void System::RunGlobalBundleAdjustment() {
   if (map_.NumKeyframes() < 2) return;
