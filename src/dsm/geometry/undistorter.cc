@@ -94,6 +94,31 @@ Undistorter::Undistorter(const CameraCalibration& input, const Options& options)
   if (ValidFraction() < 0.5) {
     throw InputError("camera calibration: less than half of the undistorted view is valid");
   }
+  offset_.assign(map_x_.size(), 0);
+  frac_x_.assign(map_x_.size(), 0.f);
+  frac_y_.assign(map_x_.size(), 0.f);
+  for (int v = 0; v < out_h; ++v) {
+    for (int u = 0; u < out_w; ++u) {
+      const size_t i = static_cast<size_t>(v) * out_w + u;
+      if (!valid_(u, v)) continue;
+      const int ix = static_cast<int>(map_x_[i]), iy = static_cast<int>(map_y_[i]);
+      offset_[i] = iy * input.width + ix;
+      frac_x_[i] = map_x_[i] - ix;
+      frac_y_[i] = map_y_[i] - iy;
+    }
+  }
+  const int64_t input_size = static_cast<int64_t>(input.width) * input.height;
+  run_ok_.assign(static_cast<size_t>(out_w / 8) * out_h, 0);
+  for (int v = 0; v < out_h; ++v) {
+    for (int r = 0; r < out_w / 8; ++r) {
+      bool ok = true;
+      for (int u = 8 * r; u < 8 * r + 8; ++u) {
+        const size_t i = static_cast<size_t>(v) * out_w + u;
+        ok = ok && valid_(u, v) && offset_[i] + int64_t{input.width} + 4 <= input_size;
+      }
+      run_ok_[static_cast<size_t>(v) * (out_w / 8) + r] = ok;
+    }
+  }
 }
 
 Eigen::Vector2d Undistorter::SourcePixel(double u, double v) const {
@@ -109,7 +134,11 @@ double Undistorter::ValidFraction() const {
 
 Image<float> Undistorter::Apply(const Image<float>& distorted) const { return Remap(distorted); }
 
-Image<float> Undistorter::Apply(const Image<uint8_t>& distorted) const { return Remap(distorted); }
+Image<float> Undistorter::Apply(const Image<uint8_t>& distorted) const {
+  Image<float> out;
+  if (!pure_crop_ && Remap8(distorted, &out)) return out;
+  return Remap(distorted);
+}
 
 template <typename T>
 Image<float> Undistorter::Remap(const Image<T>& distorted) const {

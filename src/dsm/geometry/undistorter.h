@@ -53,6 +53,9 @@ class Undistorter {
  private:
   template <typename T>
   Image<float> Remap(const Image<T>& distorted) const;
+  // Remap of an 8-bit image into *out, eight output pixels at a time (undistorter_remap.cc); false
+  // when the CPU has no AVX2 (Remap then).
+  bool Remap8(const Image<uint8_t>& distorted, Image<float>* out) const;
 
   CameraCalibration input_;
   PinholeCamera output_;
@@ -60,6 +63,12 @@ class Undistorter {
   int crop_x_ = 0, crop_y_ = 0;
   std::vector<float> map_x_, map_y_;
   Image<uint8_t> valid_;
+  // Per output pixel, what Bilinear derives from (map_x_, map_y_): the input index of the top-left
+  // neighbour, iy w + ix, and the fractions x - ix, y - iy (0 where invalid). Per run of 8 output
+  // pixels in a row: 1 when all are valid and their 32-bit reads at both rows stay in the image.
+  std::vector<int32_t> offset_;
+  std::vector<float> frac_x_, frac_y_;
+  std::vector<uint8_t> run_ok_;
 };
 
 }  // namespace dsm
