@@ -175,6 +175,7 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     all.keyframe_wait_timeouts += s.keyframe_wait_timeouts;
     all.keyframe_retracks += s.keyframe_retracks;
     all.adjustments_yielded += s.adjustments_yielded;
+    all.traces_skipped += s.traces_skipped;
     all.brightness_holds += s.brightness_holds;
     all.pyramids_rebuilt += s.pyramids_rebuilt;
     all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);
@@ -226,6 +227,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   system_options.wait_for_mapping = options.pace != Pace::kRealtime;
   system_options.yield_adjustments = options.pace == Pace::kRealtime;
   system_options.keyframe_features = options.pace == Pace::kRealtime;
+  system_options.skip_traces_while_mapping = options.pace == Pace::kFree;
   system_options.map_snapshots = options.view_port >= 0;
   const Undistorter undistorter = FrameUndistorter(dataset, options.system);
   const auto map_dir = [&](size_t index) { return index == 0 ? out_dir : out_dir / ("map_" + std::to_string(index)); };
@@ -439,6 +441,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["keyframe_wait_timeouts"] = s.keyframe_wait_timeouts;
   summary.stats["keyframe_retracks"] = s.keyframe_retracks;
   summary.stats["adjustments_yielded"] = s.adjustments_yielded;
+  summary.stats["traces_skipped"] = s.traces_skipped;
   summary.stats["brightness_holds"] = s.brightness_holds;
   summary.stats["frames_posed_before_wait"] = posed_before_wait;
   summary.stats["pyramids_rebuilt"] = s.pyramids_rebuilt;

@@ -62,6 +62,12 @@ struct SystemOptions {
   // keyframes first (45-75 ms of its 80-170 on `orbit`), and each frame it takes past the next
   // frame's arrival drops one.
   bool keyframe_features = false;
+  // Threaded: a frame tracked while the mapping side still maps a keyframe hands it no candidate
+  // tracing. When frames come as fast as tracking takes them (free pace) the mapping side is the
+  // slower of the two, and these frames, between a keyframe and the next, add little that the
+  // frames after do not: EuRoC 2.6 -> 3.0x real time, 4.27 -> 4.19 mm, synthetic scenes the same
+  // or better (README, Speed and memory).
+  bool skip_traces_while_mapping = false;
   // Every tracking reference carries a MapSnapshot (system.h) for a live viewer: the mapping side
   // spends about a microsecond per live point on it per keyframe.
   bool map_snapshots = false;

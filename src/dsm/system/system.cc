@@ -263,6 +263,11 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
       wait_after_relocalisation_ = confirmed;
     }
   }
+  if (job.keyframe < 0 && options_.skip_traces_while_mapping && mapping_thread_ &&
+      mapping_thread_->KeyframesPending() > 0) {
+    ++stats_.traces_skipped;  // Its relocalisation count reaches the mapping side with the next job.
+    return report;
+  }
   const auto t1 = std::chrono::steady_clock::now();
   Submit(std::move(job));
   if (!mapping_thread_) report.mapping_ms = MsSince(t1);
