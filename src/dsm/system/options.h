@@ -66,7 +66,9 @@ struct SystemOptions {
   // tracing. When frames come as fast as tracking takes them (free pace) the mapping side is the
   // slower of the two, and these frames, between a keyframe and the next, add little that the
   // frames after do not: EuRoC 2.6 -> 3.0x real time, 4.27 -> 4.19 mm, synthetic scenes the same
-  // or better (README, Speed and memory).
+  // or better (README, Speed and memory). Not for a live camera (realtime pace), whose frames come
+  // 50 ms apart: there it made `orbit` and `exposure` worse (medians of five 0.45 -> 0.60 and
+  // 0.82 -> 0.97 mm, frames dropped in 7 of 10 runs against 2).
   bool skip_traces_while_mapping = false;
   // Every tracking reference carries a MapSnapshot (system.h) for a live viewer: the mapping side
   // spends about a microsecond per live point on it per keyframe.
