@@ -49,14 +49,20 @@ bool Undistorter::Remap8(const Image<uint8_t>& distorted, Image<float>* out) con
     float* row = out->Row(v);
     const uint8_t* ok = valid_.Row(v);
     const size_t base = static_cast<size_t>(v) * w;
-    for (int u = 0; u < w; ++u) {
-      if (u % 8 == 0 && u / 8 < runs && run_ok_[static_cast<size_t>(v) * runs + u / 8]) {
+    // Pixels [u0, u1) of the row one by one, as Remap does.
+    const auto scalar = [&](int u0, int u1) {
+      for (int u = u0; u < u1; ++u)
+        if (ok[u]) row[u] = Bilinear(distorted, map_x_[base + u], map_y_[base + u]);
+    };
+    for (int r = 0; r < runs; ++r) {
+      const int u = 8 * r;
+      if (run_ok_[static_cast<size_t>(v) * runs + r]) {
         RemapRun8(distorted.data(), input_.width, &offset_[base + u], &frac_x_[base + u], &frac_y_[base + u], row + u);
-        u += 7;
-      } else if (ok[u]) {
-        row[u] = Bilinear(distorted, map_x_[base + u], map_y_[base + u]);
+      } else {
+        scalar(u, u + 8);
       }
     }
+    scalar(8 * runs, w);  // The row's tail.
   }
   return true;
 #else
