@@ -14,6 +14,12 @@ RealtimeWait::Clock::duration Ms(double ms) {
 
 double Longest(const std::deque<double>& ms) { return ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end()); }
 
+// Appends `ms`, keeping the last `window` values.
+void PushRecent(double ms, size_t window, std::deque<double>* recent) {
+  recent->push_back(ms);
+  if (recent->size() > window) recent->pop_front();
+}
+
 }  // namespace
 
 RealtimeWait::Clock::time_point RealtimeWait::Deadline(Clock::time_point released,
@@ -43,12 +49,9 @@ double RealtimeWait::BusyMs() const {
 }
 
 void RealtimeWait::Record(double latency_ms, double busy_ms, double first_pose_ms) {
-  busy_ms_.push_back(busy_ms);
-  if (busy_ms_.size() > kRecentFrames) busy_ms_.pop_front();
-  first_pose_ms_.push_back(first_pose_ms);
-  if (first_pose_ms_.size() > kRecentFrames) first_pose_ms_.pop_front();
-  latency_ms_.push_back(latency_ms);
-  if (latency_ms_.size() > kLatencyWindow) latency_ms_.pop_front();
+  PushRecent(busy_ms, kRecentFrames, &busy_ms_);
+  PushRecent(first_pose_ms, kRecentFrames, &first_pose_ms_);
+  PushRecent(latency_ms, kLatencyWindow, &latency_ms_);
 }
 
 }  // namespace dsm
