@@ -93,10 +93,6 @@ Problem::Trial Problem::LinearizeTrial(NormalEquations* eq) {
   return trial;
 }
 
-bool Problem::Evaluate(const PointState& ps, const ObsState& o, bool jacobians, ObservationResiduals* res) const {
-  return Evaluate(ps, o, jacobians ? Derivatives::kAll : Derivatives::kNone, res);
-}
-
 bool Problem::Evaluate(const PointState& ps, const ObsState& o, Derivatives derivatives,
                        ObservationResiduals* res) const {
   const PairGeometry& g = pairs_[o.pair];

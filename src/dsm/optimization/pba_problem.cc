@@ -65,7 +65,7 @@ void Problem::FitModels() {
       const bool skip_fit = !FitsModels(ps);
       for (ObsState& o : ps.obs) {
         ObservationResiduals res;
-        if (!Evaluate(ps, o, false, &res)) continue;
+        if (!Evaluate(ps, o, Derivatives::kNone, &res)) continue;
         Remember(res, &o);
         if (skip_fit) continue;
         std::vector<float>& out = chunk_residuals[chunk][o.target];

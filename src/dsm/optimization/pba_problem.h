@@ -139,7 +139,6 @@ class Problem {
 
   void UpdatePairs();
 
-  bool Evaluate(const PointState& ps, const ObsState& o, bool jacobians, ObservationResiduals* res) const;
   bool Evaluate(const PointState& ps, const ObsState& o, Derivatives derivatives, ObservationResiduals* res) const;
 
   // Whether the point's residuals take part in the model fits: with pba.refit_all_models false,
