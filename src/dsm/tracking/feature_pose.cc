@@ -16,12 +16,29 @@ namespace dsm {
 
 namespace {
 
+// The image is detected on at a fixed contrast: I' = 128 + d (I - mean) / deviation. FAST's
+// threshold is absolute (grey levels), so a dim or low-contrast view of a place finds few corners or
+// none where a bright view of it finds hundreds (the `exposure` scene after dark frames: 1 keypoint
+// at deviation 7, 1000 at 40), and the two could never be matched. BRIEF's comparisons of smoothed
+// intensities do not change under a positive affine map, so the descriptors stay comparable; FAST's
+// threshold becomes a share of the image's own contrast.
 template <typename Value>
 OrbFeatures Detect(int w, int h, const Value& value, const FeaturePoseOptions& options) {
+  double sum = 0.0, sum2 = 0.0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double v = value(x, y);
+      sum += v, sum2 += v * v;
+    }
+  const double n = static_cast<double>(w) * h;
+  const double mean = sum / n, deviation = std::sqrt(std::max(sum2 / n - mean * mean, 0.0));
+  OrbFeatures f;
+  if (!(deviation > 0.0)) return f;  // A uniform image has no corners.
+  const double gain = options.contrast / deviation;
   cv::Mat image(h, w, CV_8U);
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) image.at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(value(x, y));
-  OrbFeatures f;
+    for (int x = 0; x < w; ++x)
+      image.at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(128.0 + gain * (value(x, y) - mean));
   cv::ORB::create(options.max_features)->detectAndCompute(image, cv::noArray(), f.keypoints, f.descriptors);
   return f;
 }

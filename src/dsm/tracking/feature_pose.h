@@ -26,6 +26,7 @@ struct FeaturePoseOptions {
   float max_depth_px = 8.f;      // A keypoint takes the depth of the nearest map point this close.
   double ransac_px = 3.0;        // Reprojection error of a PnP inlier.
   int min_inliers = 20;
+  double contrast = 40.0;        // Grey-level deviation the image is detected at (see feature_pose.cc).
 };
 
 struct OrbFeatures {
