@@ -180,14 +180,14 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     }
   }
   if (reason.empty() && lost_) {
-    // Only a frame with the usual texture may re-anchor the camera: half of it hidden by a hand
-    // sliding off the lens, any pose fits the rest as well as the right one.
-    reason = quality_.CheckRelocalisationImage(signature.texture, reference_->texture);
-    if (reason.empty()) {
-      Tentative before = SaveTentative(index);
-      report.relocalised = Relocalise(index, *pyramid, signature, exposure, &result, &relocalised_velocity, &reason);
-      if (report.relocalised) tentative_ = std::move(before);
-    }
+    // A frame with less than the usual texture may be half hidden by a hand sliding off the lens,
+    // where any pose fits the rest as well as the right one: it re-anchors the camera only by
+    // three sightings that move as one camera. (A view turned to a plainer part of the scene has
+    // as little: not trying it at all started a second map on `rotation` after the noise.)
+    const bool plain = !quality_.CheckRelocalisationImage(signature.texture, reference_->texture).empty();
+    Tentative before = SaveTentative(index);
+    report.relocalised = Relocalise(index, *pyramid, signature, exposure, plain, &result, &relocalised_velocity, &reason);
+    if (report.relocalised) tentative_ = std::move(before);
     if (!report.relocalised) ++failed_relocalisations_;
   }
   if (!reason.empty() && tentative_) WithdrawRelocalisation();

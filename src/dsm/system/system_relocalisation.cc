@@ -70,7 +70,7 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
 }
 
 bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
-                        TrackResult* result, SE3d* velocity, std::string* reason) {
+                        bool plain, TrackResult* result, SE3d* velocity, std::string* reason) {
   // The map is read below: the mapping side must be idle (nothing is handed to it while lost).
   if (mapping_thread_) mapping_thread_->WaitUntilIdle(/*urgent=*/true);
   UpdateReference(false);
@@ -186,7 +186,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   };
   // best: passed the quality test and the jump check; sighted: passed the quality test.
   std::optional<Found> best, sighted;
-  const bool predicted = since <= options_.relocalisation.max_predicted_frames;
+  const bool predicted = !plain && since <= options_.relocalisation.max_predicted_frames;
   std::string why = "no keyframe to relocalise against";
   for (size_t c = 0; c < candidates.size(); ++c) {
     const int k = candidates[c];
@@ -198,7 +198,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
         sighted = Found{r, k, &a};
       if (fail.empty()) {
         fail = predicted ? quality_.CheckJump(step, since, velocity_, a.mean_idepth)
-                         : "lost too long to predict the pose";
+                         : plain ? "less texture than usual: one frame does not relocalise" : "lost too long to predict the pose";
       }
       if (!fail.empty()) {
         why = fail;

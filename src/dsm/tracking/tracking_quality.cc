@@ -66,7 +66,7 @@ bool TrackingQuality::CheckKeyframeImage(double texture, double previous) const 
 std::string TrackingQuality::CheckRelocalisationImage(double texture, double keyframe_texture) const {
   const double level = keyframe_texture > 0.0 ? std::min(TextureLevel(), keyframe_texture) : TextureLevel();
   if (BelowTextureLevel(texture, options_.min_relocalisation_texture_ratio, level))
-    return Format("too little texture to relocalise (%.2f, usual %.2f)", texture, level);
+    return Format("less texture than usual (%.2f, usual %.2f)", texture, level);
   return {};
 }
 

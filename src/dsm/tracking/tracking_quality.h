@@ -7,7 +7,9 @@
 // residual) instead of absolute thresholds:
 //   image:    texture < min_texture_ratio x texture level         (black, saturated, covered lens)
 //            while lost, texture < min_relocalisation_texture_ratio x the level before (a hand
-//            half over the lens) is not tried against the map: any pose fits the rest as well.
+//            half over the lens, or a plainer part of the scene): any pose fits the rest of a
+//            half-covered frame as well as the right one, so such a frame relocalises only by
+//            three sightings that move as one camera (System::Relocalise, `plain`).
 //            The level there is the lower of the running one and the newest keyframe's (the
 //            last view of the place, made before a hand came in: a frame whose texture fell
 //            makes no keyframe): the running median lags a view turning to a plainer part of
@@ -80,8 +82,8 @@ class TrackingQuality {
   std::string CheckImage(double texture) const;
   // Whether a tracked frame of this texture may become a keyframe after a frame of `previous`.
   bool CheckKeyframeImage(double texture, double previous) const;
-  // Empty when a lost frame of this texture may be tried against the map, else why not;
-  // `keyframe_texture`: the newest keyframe's (0: unknown).
+  // Empty when a lost frame of this texture has the usual texture, else why not (it then
+  // relocalises only by three sightings); `keyframe_texture`: the newest keyframe's (0: unknown).
   std::string CheckRelocalisationImage(double texture, double keyframe_texture = 0.0) const;
   // Empty when the tracked frame can be trusted, else why not. `step`: its motion from the last
   // trusted frame (frame_from_last), `frames` frames after it; `mean_idepth`: of the reference's points.

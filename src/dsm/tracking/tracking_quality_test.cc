@@ -83,13 +83,13 @@ TEST(TrackingQuality, OnlyAFrameWithTheUsualTextureRelocalises) {
   EXPECT_EQ(q.CheckRelocalisationImage(1.0), "");  // No level yet.
   for (int i = 0; i < 3; ++i) q.Trust(1.0, 10.0);
   EXPECT_EQ(q.CheckImage(5.0), "");
-  EXPECT_EQ(q.CheckRelocalisationImage(6.9), "too little texture to relocalise (6.90, usual 10.00)");
+  EXPECT_EQ(q.CheckRelocalisationImage(6.9), "less texture than usual (6.90, usual 10.00)");
   EXPECT_EQ(q.CheckRelocalisationImage(7.1), "");
   // The newest keyframe, made where the view had turned plainer, lowers the level; a richer one
   // does not raise it.
-  EXPECT_EQ(q.CheckRelocalisationImage(5.0, 8.0), "too little texture to relocalise (5.00, usual 8.00)");
+  EXPECT_EQ(q.CheckRelocalisationImage(5.0, 8.0), "less texture than usual (5.00, usual 8.00)");
   EXPECT_EQ(q.CheckRelocalisationImage(6.9, 8.0), "");
-  EXPECT_EQ(q.CheckRelocalisationImage(6.9, 12.0), "too little texture to relocalise (6.90, usual 10.00)");
+  EXPECT_EQ(q.CheckRelocalisationImage(6.9, 12.0), "less texture than usual (6.90, usual 10.00)");
   o.min_relocalisation_texture_ratio = 0.3;  // Below min_texture_ratio.
   EXPECT_THROW(o.Validate(), InputError);
 }
