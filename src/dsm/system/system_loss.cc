@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: MIT
+// The bookkeeping of lost frames: the recording's frame clock (frames missing from it count by
+// their timestamps), lost episodes, the tentative relocalisation and its withdrawal, and when a
+// map is given up (System::NeedsNewMap). The relocalisation itself is in system_relocalisation.cc.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "dsm/system/system.h"
+#include "dsm/util/median.h"
+
+namespace dsm {
+
+int System::FramesSinceTrusted(int index) const {
+  if (last_trusted_index_ < 0) return 1;
+  int frames = std::max(1, index - last_trusted_index_);
+  // A gap in the recording's timestamps (frames missing from it) counts as the frames that would
+  // have filled it: the camera moved on meanwhile.
+  if (frame_interval_ns_ > 0.0 && current_t_ns_ > last_trusted_t_ns_) {
+    const double intervals = static_cast<double>(current_t_ns_ - last_trusted_t_ns_) / frame_interval_ns_;
+    frames = std::max(frames, static_cast<int>(std::min(std::round(intervals), 1e6)));
+  }
+  return frames;
+}
+
+void System::NoteTimestamp(int index, int64_t t_ns) {
+  // The recording's frame interval: the median over the last steps between frames taken in turn
+  // (per index step: frames dropped or skipped between them share it).
+  constexpr size_t kSteps = 15;
+  if (seen_index_ >= 0 && index > seen_index_ && t_ns > seen_t_ns_) {
+    interval_steps_.push_back(static_cast<double>(t_ns - seen_t_ns_) / (index - seen_index_));
+    if (interval_steps_.size() > kSteps) interval_steps_.pop_front();
+    frame_interval_ns_ = Median(std::vector<double>(interval_steps_.begin(), interval_steps_.end()));
+  }
+  seen_index_ = index;
+  seen_t_ns_ = t_ns;
+  current_t_ns_ = t_ns;
+}
+
+FrameReport System::LostFrame(FrameReport report, int64_t t_ns, std::string reason) {
+  report.status = TrackingStatus::kLost;
+  report.reason = std::move(reason);
+  ++lost_in_a_row_;
+  if (suspended_) return report;  // Not its frame (Suspend).
+  frames_.push_back({t_ns, -1, SE3d()});
+  ++stats_.frames_lost;
+  if (!lost_) {
+    lost_ = true;
+    stats_.lost_episodes.push_back({report.index, report.index});
+  }
+  stats_.lost_episodes.back().second = report.index;
+  return report;
+}
+
+System::Tentative System::SaveTentative(int index) const {
+  Tentative t;
+  t.index = index;
+  t.record = frames_.size();
+  t.reference = reference_;
+  t.last_frame_from_reference = last_frame_from_reference_;
+  t.velocity = velocity_;
+  t.last_trusted_index = last_trusted_index_;
+  t.last_trusted_t_ns = last_trusted_t_ns_;
+  t.alpha = last_alpha_;
+  t.beta = last_beta_;
+  t.exposure = last_exposure_;
+  t.first_rmse_after_keyframe = first_rmse_after_keyframe_;
+  t.quality = quality_;
+  t.lost_in_a_row = lost_in_a_row_;
+  t.failed_relocalisations = failed_relocalisations_;
+  return t;
+}
+
+void System::WithdrawRelocalisation() {
+  Tentative& t = *tentative_;
+  if (suspended_) {
+    // Not its frame after all (Suspend): no trace left.
+    frames_.resize(t.record);
+    --stats_.frames_tracked;
+    --stats_.frames;
+  } else {
+    // The relocalised frame becomes a lost one of the same episode.
+    frames_[t.record].reference = -1;
+    --stats_.frames_tracked;
+    ++stats_.frames_lost;
+    stats_.lost_episodes.back().second = t.index;
+  }
+  lost_in_a_row_ = t.lost_in_a_row + 1;
+  failed_relocalisations_ = t.failed_relocalisations + 1;
+  // The mapping side is idle: it was handed nothing since the camera was lost.
+  if (reference_ != t.reference) AdoptReference(t.reference);
+  last_frame_from_reference_ = t.last_frame_from_reference;
+  velocity_ = t.velocity;
+  last_trusted_index_ = t.last_trusted_index;
+  last_trusted_t_ns_ = t.last_trusted_t_ns;
+  last_alpha_ = t.alpha;
+  last_beta_ = t.beta;
+  last_exposure_ = t.exposure;
+  first_rmse_after_keyframe_ = t.first_rmse_after_keyframe;
+  quality_ = t.quality;
+  lost_ = true;
+  tentative_.reset();
+}
+
+bool System::NeedsNewMap() const {
+  return options_.relocalisation.max_lost_frames > 0 && failed_relocalisations_ >= options_.relocalisation.max_lost_frames;
+}
+
+}  // namespace dsm
