@@ -187,7 +187,12 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   // best: passed the quality test and the jump check; sighted: passed the quality test.
   std::optional<Found> best, sighted;
   const bool predicted = !plain && since <= options_.relocalisation.max_predicted_frames;
+  // Why not, as told: the failure of the attempt with the most of its keyframe's points in view,
+  // not of the last one tried (often a keyframe that does not see the place at all: "too few
+  // points in view (0%)" hid that the reference's alignment, 55% in view, ended at 10x the
+  // residual level).
   std::string why = "no keyframe to relocalise against";
+  double why_visibility = -1.0;
   for (size_t c = 0; c < candidates.size(); ++c) {
     const int k = candidates[c];
     Aligned& a = aligned[c];
@@ -198,10 +203,11 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
         sighted = Found{r, k, &a};
       if (fail.empty()) {
         fail = predicted ? quality_.CheckJump(step, since, velocity_, a.mean_idepth)
-                         : plain ? "less texture than usual: one frame does not relocalise" : "lost too long to predict the pose";
+               : plain   ? "less texture than usual: one frame does not relocalise"
+                         : "lost too long to predict the pose";
       }
       if (!fail.empty()) {
-        why = fail;
+        if (r.visibility > why_visibility) why = fail, why_visibility = r.visibility;
         continue;
       }
       if (!best || r.residual_p50 < best->result.residual_p50) best = Found{r, k, &a};
