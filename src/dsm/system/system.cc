@@ -184,7 +184,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     // where any pose fits the rest as well as the right one: it re-anchors the camera only by
     // three sightings that move as one camera. (A view turned to a plainer part of the scene has
     // as little: not trying it at all started a second map on `rotation` after the noise.)
-    const bool plain = !quality_.CheckRelocalisationImage(signature.texture, reference_->texture).empty();
+    const std::string plain = quality_.CheckRelocalisationImage(signature.texture, reference_->texture);
     Tentative before = SaveTentative(index);
     report.relocalised = Relocalise(index, *pyramid, signature, exposure, plain, &result, &relocalised_velocity, &reason);
     if (report.relocalised) tentative_ = std::move(before);

@@ -268,10 +268,11 @@ class System {
   // like it, from the last trusted pose; on success the keyframe it passed the quality test against
   // becomes the reference and `result` holds the frame's pose relative to it, `velocity` the
   // camera's motion per frame through the loss (cam_now_from_cam_before). `reason`: why not.
-  // `plain`: the frame has less than the usual texture (TrackingQuality::CheckRelocalisationImage)
-  // and is accepted only by three sightings that move as one camera, never by the prediction.
-  bool Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure, bool plain,
-                  TrackResult* result, SE3d* velocity, std::string* reason);
+  // `plain`: empty when the frame has the usual texture, else why not
+  // (TrackingQuality::CheckRelocalisationImage); such a frame is accepted only by three sightings
+  // that move as one camera, never by the prediction.
+  bool Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
+                  const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason);
   // A lost frame's best alignment with the map that passed the quality test (camera in the world).
   struct Sighting {
     int index = -1;

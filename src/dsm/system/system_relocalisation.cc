@@ -70,7 +70,7 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
 }
 
 bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
-                        bool plain, TrackResult* result, SE3d* velocity, std::string* reason) {
+                        const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason) {
   // The map is read below: the mapping side must be idle (nothing is handed to it while lost).
   if (mapping_thread_) mapping_thread_->WaitUntilIdle(/*urgent=*/true);
   UpdateReference(false);
@@ -186,7 +186,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   };
   // best: passed the quality test and the jump check; sighted: passed the quality test.
   std::optional<Found> best, sighted;
-  const bool predicted = !plain && since <= options_.relocalisation.max_predicted_frames;
+  const bool predicted = plain.empty() && since <= options_.relocalisation.max_predicted_frames;
   // Why not, as told: the failure of the attempt with the most of its keyframe's points in view,
   // not of the last one tried (often a keyframe that does not see the place at all: "too few
   // points in view (0%)" hid that the reference's alignment, 55% in view, ended at 10x the
@@ -202,9 +202,9 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
       if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))
         sighted = Found{r, k, &a};
       if (fail.empty()) {
-        fail = predicted ? quality_.CheckJump(step, since, velocity_, a.mean_idepth)
-               : plain   ? "less texture than usual: one frame does not relocalise"
-                         : "lost too long to predict the pose";
+        fail = predicted       ? quality_.CheckJump(step, since, velocity_, a.mean_idepth)
+               : !plain.empty() ? plain + ": one frame does not relocalise"
+                                : "lost too long to predict the pose";
       }
       if (!fail.empty()) {
         if (r.visibility > why_visibility) why = fail, why_visibility = r.visibility;
