@@ -21,6 +21,9 @@ Command AddSynth(CLI::App& app) {
   app.add_option("--vignette", o->vignette, "Vignetting strength in the corners, 0..0.8 (writes vignette.png)");
   app.add_option("--blur", o->blur_sigma, "Gaussian optical blur sigma, pixels");
   app.add_flag("--depth", o->depth, "Also write per-frame depth maps (depth/*.tiff, metres)");
+  app.add_flag("--turned-textures", o->turned_textures,
+               "Textures that do not repeat along the surfaces (each reads its noise tile along turned axes; "
+               "by default they repeat every two of their coarsest wavelengths, e.g. every 2 m down the corridor)");
   app.add_option("--defects", o->defects,
                  "Bad frames to inject: KIND:FIRST[-LAST],... with KIND black, saturated, noise, cover (a hand "
                  "over the lens), corrupt, truncated or empty (damaged files), e.g. black:200-214,corrupt:350");

@@ -10,6 +10,7 @@
 # Usage: ./scripts/defects.sh [WORK_DIR]      (default /tmp/dsm_defects)
 #   DSM_DEFECTS_SCENES="loop orbit"   scenes (default: all seven)
 #   DSM_DEFECTS_SEEDS="1 2"           seeds (default: 1 2 3 4 5)
+#   DSM_DEFECTS_SYNTH="--turned-textures"   more `dsm synth` options (use another WORK_DIR with them)
 #   DSM_BIN=path                      this dsm binary (no set-up or build)
 # Renders are kept in WORK_DIR and reused; runs are redone. Exit status 1 when a run fails.
 set -euo pipefail
@@ -23,6 +24,7 @@ fi
 WORK="${1:-/tmp/dsm_defects}"
 read -r -a SCENES <<<"${DSM_DEFECTS_SCENES:-loop orbit exposure forward rotation pan shake}"
 read -r -a SEEDS <<<"${DSM_DEFECTS_SEEDS:-1 2 3 4 5}"
+read -r -a SYNTH <<<"${DSM_DEFECTS_SYNTH:-}"
 mkdir -p "$WORK"
 
 # The defects at the same places in the recording as the issue's: the 600-frame scenes at 200, 300,
@@ -37,7 +39,9 @@ defects_of() {  # defects_of SCENE -> "black:..,noise:..,corrupt:..,cover:.."
 render() {  # render SCENE SEED DIR [synth args]
   local scene=$1 seed=$2 dir=$3
   shift 3
-  if [ ! -f "$dir/groundtruth.tum" ]; then "$DSM" synth --scene "$scene" --seed "$seed" --out "$dir" "$@" >/dev/null; fi
+  if [ ! -f "$dir/groundtruth.tum" ]; then
+    "$DSM" synth --scene "$scene" --seed "$seed" --out "$dir" ${SYNTH[@]+"${SYNTH[@]}"} "$@" >/dev/null
+  fi
 }
 
 run() {  # run SEQUENCE OUT -> exit status of dsm run

@@ -27,6 +27,12 @@ void Scene::AddRoom(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const 
 
 void Scene::AddCylinder(const Cylinder& c) { cylinders_.push_back(c); }
 
+void Scene::TurnTextures() {
+  for (Box& box : boxes_)
+    for (Texture& face : box.faces) face.turned = true;
+  for (Cylinder& cylinder : cylinders_) cylinder.texture.turned = true;
+}
+
 Scene::Subset Scene::All() const {
   Subset all;
   for (size_t i = 0; i < boxes_.size(); ++i) all.boxes.push_back(static_cast<int>(i));

@@ -40,6 +40,8 @@ class Scene {
   // The inside of a box: walls (-x, +x, -y, +y), floor and ceiling with their own textures.
   void AddRoom(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const std::array<Texture, 6>& faces);
   void AddCylinder(const Cylinder& cylinder);
+  // Every texture of the scene read along turned axes (Texture::turned).
+  void TurnTextures();
 
   // The primitives a group of rays may hit: indices into the boxes and the cylinders.
   struct Subset {

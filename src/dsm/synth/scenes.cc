@@ -155,6 +155,7 @@ SynthSequence MakeSequence(const SynthOptions& options) {
   } else {
     FurnishedRoom(rng, &seq.scene);
   }
+  if (options.turned_textures) seq.scene.TurnTextures();
   const Jitter jitter(rng);
   const Jitter look_jitter(rng);
 

@@ -35,6 +35,7 @@ struct SynthOptions {
   double blur_sigma = 0.0;   // Gaussian optical blur, pixels.
   bool depth = false;        // Also write per-frame depth maps.
   std::string defects;       // Bad frames to inject (defects.h), e.g. "black:20-24,corrupt:30".
+  bool turned_textures = false;  // Textures that do not repeat along the surfaces (Texture::turned).
 
   void Validate() const;  // Throws InputError naming the option.
 };

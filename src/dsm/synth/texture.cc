@@ -128,19 +128,42 @@ const NoiseTile& Tile() {
   return tile;
 }
 
+// (cos, sin) of a turned texture's angle, 0.3 + 0.4 i / 255 rad for i = bits 23-30 of its seed.
+struct Turn {
+  float c, s;
+};
+const Turn& TurnOf(uint32_t seed) {
+  static const std::vector<Turn> table = [] {
+    std::vector<Turn> t(256);
+    for (int i = 0; i < 256; ++i) {
+      const double angle = 0.3 + 0.4 * i / 255.0;
+      t[i] = {static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle))};
+    }
+    return t;
+  }();
+  return table[(seed >> 23) & 255u];
+}
+
 }  // namespace
 
 float SampleNoiseTile(float x, float y, float footprint_texels) { return Tile().Sample(x, y, footprint_texels); }
 
 float EvaluateTexture(const Texture& t, float u, float v, float footprint_m) {
   const NoiseTile& tile = Tile();
+  // Tile coordinates (tu, tv) = R (u, v); the grid lines below stay on u and v.
+  float tu = u, tv = v;
+  if (t.turned) {
+    const Turn& turn = TurnOf(t.seed);
+    tu = turn.c * u - turn.s * v;
+    tv = turn.s * u + turn.c * v;
+  }
   // Texels per metre: the coarsest octave (1024 texels) spans scale_m.
   const float k = 1024.f / t.scale_m;
   // Per-texture offsets (in texels) decorrelate textures that share the tile.
   const float ox = static_cast<float>(t.seed & 2047u), oy = static_cast<float>((t.seed >> 11) & 2047u);
   const bool swap = (t.seed >> 22) & 1u;
-  float pattern = swap ? tile.Sample(v * k + ox, u * k + oy, footprint_m * k)
-                       : tile.Sample(u * k + ox, v * k + oy, footprint_m * k);
+  float pattern = swap ? tile.Sample(tv * k + ox, tu * k + oy, footprint_m * k)
+                       : tile.Sample(tu * k + ox, tv * k + oy, footprint_m * k);
   if (t.line_spacing_m > 0.f) {
     // Lines of half-width w: distance to the nearest grid line, smoothed over ~1.5 px.
     const float w = 0.02f * t.line_spacing_m;
@@ -157,7 +180,7 @@ float EvaluateTexture(const Texture& t, float u, float v, float footprint_m) {
   }
   if (t.weak_fraction > 0.f) {
     // Slow mask (wavelengths of several metres): one bilinear lookup on a coarse mip level.
-    const float m = 0.5f + 0.8f * tile.Bilinear(kMaskLevel, u * 256.f + oy, v * 256.f + ox);
+    const float m = 0.5f + 0.8f * tile.Bilinear(kMaskLevel, tu * 256.f + oy, tv * 256.f + ox);
     pattern *= 0.12f + 0.88f * SmoothStep(t.weak_fraction - 0.08f, t.weak_fraction + 0.08f, m);
   }
   return std::clamp(t.base + t.contrast * pattern, 0.02f, 0.98f);
