@@ -19,6 +19,7 @@
 // in parallel on both cores: the mapping side waits while the camera is lost.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 
 #include <tbb/parallel_for.h>
@@ -131,7 +132,9 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     std::shared_ptr<const ImagePyramid> pyramid;
     double mean_idepth = 0.0;
     std::vector<TrackResult> results;
-    // The guesses not refined, in the order of their coarse energy, with the brightness guessed.
+    // The alignment against the keyframe, and the guesses it did not refine (in the order of their
+    // coarse energy) with the brightness guessed: a second round may take them up.
+    std::unique_ptr<FrameTracker> tracker;
     std::vector<SE3d> rest;
     double alpha = 0.0, beta = 0.0;
   };
@@ -144,7 +147,8 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     if (out.points.empty()) return;
     out.pyramid =
         kf.pyramid ? kf.pyramid : std::make_shared<const ImagePyramid>(ImagePyramid::FromFixed(kf.image, kf.pyramid_levels));
-    FrameTracker tracker(tracker_options);
+    out.tracker = std::make_unique<FrameTracker>(tracker_options);
+    FrameTracker& tracker = *out.tracker;
     tracker.SetReference(out.pyramid.get(), camera_, out.points);
     out.mean_idepth = tracker.MeanIdepth();
     const SE3d still = last_from_world * kf.cam_from_world.Inverse();
@@ -236,11 +240,9 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
                                                           sighted->aligned->mean_idepth));
   if (!found && !aligned.empty() && !aligned[0].rest.empty()) {
     Aligned& a = aligned[0];  // The reference's.
-    FrameTracker tracker(tracker_options);
-    tracker.SetReference(a.pyramid.get(), camera_, a.points);
     std::vector<TrackResult> more(a.rest.size());
     tbb::parallel_for(size_t{0}, a.rest.size(),
-                      [&](size_t g) { more[g] = tracker.Track(pyramid, a.rest[g], a.alpha, a.beta, since); });
+                      [&](size_t g) { more[g] = a.tracker->Track(pyramid, a.rest[g], a.alpha, a.beta, since); });
     a.results.insert(a.results.end(), more.begin(), more.end());
     weigh();
   }
