@@ -12,13 +12,7 @@
 # speed drifts from hour to hour.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD_DIR="${DSM_BUILD_DIR:-build}"
-if [ -n "${DSM_BIN:-}" ]; then
-  DSM="$DSM_BIN"
-else
-  ./scripts/setup.sh >/dev/null
-  DSM="$BUILD_DIR/bin/dsm"
-fi
+source scripts/dsm_binary.sh
 DATA="${DSM_SHARED_DATA_DIR:-../shared/data}"
 WORK="${1:-/tmp/dsm_benchmark}"
 mkdir -p "$WORK"

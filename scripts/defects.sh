@@ -15,12 +15,7 @@
 # Renders are kept in WORK_DIR and reused; runs are redone. Exit status 1 when a run fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if [ -n "${DSM_BIN:-}" ]; then
-  DSM="$DSM_BIN"
-else
-  ./scripts/setup.sh >/dev/null
-  DSM="build/bin/dsm"
-fi
+source scripts/dsm_binary.sh
 WORK="${1:-/tmp/dsm_defects}"
 read -r -a SCENES <<<"${DSM_DEFECTS_SCENES:-loop orbit exposure forward rotation pan shake}"
 read -r -a SEEDS <<<"${DSM_DEFECTS_SEEDS:-1 2 3 4 5}"
