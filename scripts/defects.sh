@@ -11,6 +11,7 @@
 #   DSM_DEFECTS_SCENES="loop orbit"   scenes (default: all seven)
 #   DSM_DEFECTS_SEEDS="1 2"           seeds (default: 1 2 3 4 5)
 #   DSM_DEFECTS_SYNTH="--turned-textures"   more `dsm synth` options (use another WORK_DIR with them)
+#   DSM_DEFECTS_RUN="--config x.yaml"        more `dsm run` options (clean and damaged runs alike)
 #   DSM_BIN=path                      this dsm binary (no set-up or build)
 # Renders are kept in WORK_DIR and reused; runs are redone. Exit status 1 when a run fails.
 set -euo pipefail
@@ -20,6 +21,7 @@ WORK="${1:-/tmp/dsm_defects}"
 read -r -a SCENES <<<"${DSM_DEFECTS_SCENES:-loop orbit exposure forward rotation pan shake}"
 read -r -a SEEDS <<<"${DSM_DEFECTS_SEEDS:-1 2 3 4 5}"
 read -r -a SYNTH <<<"${DSM_DEFECTS_SYNTH:-}"
+read -r -a RUN_ARGS <<<"${DSM_DEFECTS_RUN:-}"
 mkdir -p "$WORK"
 
 # The defects at the same places in the recording as the issue's: the 600-frame scenes at 200, 300,
@@ -42,7 +44,7 @@ render() {  # render SCENE SEED DIR [synth args]
 run() {  # run SEQUENCE OUT -> exit status of dsm run
   rm -rf "$2"
   local status=0
-  "$DSM" run "$1" --out "$2" --sequential --quiet >"$2.log" 2>&1 || status=$?
+  "$DSM" run "$1" --out "$2" --sequential --quiet ${RUN_ARGS[@]+"${RUN_ARGS[@]}"} >"$2.log" 2>&1 || status=$?
   echo "$status"
 }
 
