@@ -11,6 +11,9 @@ rmSync(work, { recursive: true, force: true });
 mkdirSync(work, { recursive: true });
 execFileSync(dsm, ['synth', '--scene', 'loop', '--frames', '160', '--width', '320', '--height', '240',
   '--out', join(work, 'scene')]);
+// The browser first: launched after the address was printed, it took longer than the run on a
+// loaded machine, which had closed its server by then (net::ERR_CONNECTION_REFUSED).
+const browser = await launch();
 // Sequential: every keyframe mapped before the next frame, so the map grows frame by frame however
 // loaded the machine is (a realtime run on a busy machine drops most frames).
 const run = spawn(dsm, ['run', join(work, 'scene'), '--sequential', '--quiet', '--view', '--port', '0',
@@ -27,7 +30,6 @@ const url = await new Promise((resolve, reject) => {
 });
 console.log('live viewer at', url);
 
-const browser = await launch();
 try {
   const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
   const errors = collectErrors(page);
