@@ -36,9 +36,10 @@ using testing::ExpectDefectsCostTheirFramesOnly;
 using testing::TumStamps;
 
 fs::path Render(const std::string& scene, int frames, const std::string& defects, const std::string& name,
-                int width = 0, int height = 0, bool turned_textures = false) {
+                int width = 0, int height = 0, bool turned_textures = false, uint32_t seed = 1) {
   synth::SynthOptions options;
   options.scene = scene;
+  options.seed = seed;
   options.frames = frames;
   options.defects = defects;
   options.turned_textures = turned_textures;
@@ -64,9 +65,9 @@ double KeyframeAte(const RunSummary& s) { return (*s.eval)["keyframes"]["ape"]["
 RunSummary ExpectDefectRunLikeTheClean(const std::string& scene, int frames, const std::string& defects,
                                        const std::vector<testing::DefectRange>& ranges, double max_ate_ratio,
                                        const std::string& name, int width = 0, int height = 0,
-                                       bool turned_textures = false) {
-  const fs::path clean = Render(scene, frames, "", name + "_clean", width, height, turned_textures);
-  const fs::path bad = Render(scene, frames, defects, name + "_defects", width, height, turned_textures);
+                                       bool turned_textures = false, uint32_t seed = 1) {
+  const fs::path clean = Render(scene, frames, "", name + "_clean", width, height, turned_textures, seed);
+  const fs::path bad = Render(scene, frames, defects, name + "_defects", width, height, turned_textures, seed);
   const RunSummary c = RunSequential(clean, clean.parent_path() / "out");
   const fs::path out = bad.parent_path() / "out";
   const RunSummary s = RunSequential(bad, out);
@@ -115,6 +116,20 @@ TEST(Relocalisation, PlainerViewAfterTheDefect) {
 TEST(Relocalisation, TheRightGuessRankedLow) {
   ExpectDefectRunLikeTheClean("loop", 240, "black:200-214", {{200, 214}}, 1.5, "turned_loop", 0, 0,
                               /*turned_textures=*/true);
+}
+
+// `loop` seed 2 with 15 black frames: after them the camera is 0.75 m and 27 deg from the last
+// keyframe, with 5-12% of its points in view, where tracking was lost below 10% and each lost
+// frame was aligned from guesses made before the loss only: the first map was given up at frame
+// 244. Now a frame's alignment may keep as little as tracker.min_usage (4%) of the points in
+// view, and each lost frame is also aligned from the sightings of the frames before it: 215 and
+// 216 are sighted (lost too long to predict), 217 moves as one camera with them and relocalises.
+// The part mapped from so few points ran 0.7% high in scale, and one adjustment after the
+// relocalisation left it (keyframe ATE 5.24 mm against 1.54 clean): the map is adjusted
+// periodically once it has been relocalised (0.52 mm).
+TEST(Relocalisation, MostOfTheMapOutOfView) {
+  ExpectDefectRunLikeTheClean("loop", 0, "black:200-214", {{200, 214}}, 1.5, "loop_seed2", 0, 0,
+                              /*turned_textures=*/false, /*seed=*/2);
 }
 
 // `orbit` in 150 frames (four times its speed: ~0.1 m a frame, a near occluder passing): two black

@@ -111,7 +111,9 @@ struct SystemOptions {
   // keyframes reach this many back (0: never). Tracking lost and regained is the map's weakest
   // link: the part after it joins the part before through one relocalised pose (`loop` with
   // defects: the scale after the first loss runs 0.2% high, and the lap's two parts disagree when
-  // the camera comes back). A recording without losses never pays for it.
+  // the camera comes back). From then on the map is also adjusted as loop_ba_min_gap would, every
+  // this many keyframes (when loop_ba_min_gap is 0): the loops that close later are what make the
+  // parts before and after the loss agree. A recording without losses never pays for it.
   int loop_ba_after_relocalisation = 20;
   int loop_ba_max_keyframes = 120;
   int loop_ba_max_iterations = 0;  // Per level; 0: as pba.max_iterations.

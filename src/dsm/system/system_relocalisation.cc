@@ -12,9 +12,11 @@
 //   the RANSAC PnP pose of the frame's ORB matches to K's,
 //   T_lw T_wK,  V^((k+1)/2) T_lw T_wK,  V^(k+1) T_lw T_wK,  each also turned by +-0.05 rad about
 //   the camera's x and y axes,
-// and for K other than the reference K's own pose. The coarse energy ranks them; the best two are
-// aligned coarse to fine over the whole pyramid (the frame may be far from every keyframe), and
-// the passing result with the smallest median residual wins. The features (each keyframe's
+// and for K other than the reference K's own pose; after lost frames that were sighted (aligned,
+// but not yet trusted: MovesAsOneCamera), the newest sighting and it moved on by the step between
+// the last two. The coarse energy ranks them; the best two and the sightings' are aligned coarse
+// to fine over the whole pyramid (the frame may be far from every keyframe), and the passing
+// result with the smallest median residual wins. The features (each keyframe's
 // computed once, kept in keyframe_features_), their matches and the candidates' alignments run
 // in parallel on both cores: the mapping side waits while the camera is lost.
 #include <algorithm>
@@ -162,6 +164,21 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
         for (int axis = 0; axis < 2; ++axis) guesses.push_back(internal::RotationAbout(axis, angle) * base);
     }
     if (k != ref) guesses.push_back(SE3d());
+    // The lost frames sighted before this one (MovesAsOneCamera): the camera moves little from
+    // frame to frame, so the newest sighting, and it moved on by the step between the last two,
+    // are guesses far nearer than anything predicted from before the loss: refined whatever
+    // their coarse energy.
+    const size_t first_sighted = guesses.size();
+    if (!sightings_.empty()) {
+      const Sighting& last = sightings_.back();
+      guesses.push_back(last.cam_from_world * kf.cam_from_world.Inverse());
+      if (sightings_.size() == 2) {
+        const Sighting& before = sightings_.front();
+        const SE3d step = internal::ScaleSteps(last.cam_from_world * before.cam_from_world.Inverse(),
+                                               static_cast<double>(index - last.index) / (last.index - before.index));
+        guesses.push_back(step * last.cam_from_world * kf.cam_from_world.Inverse());
+      }
+    }
     // Brightness: the last trusted frame's. A suspended map's (System::Suspend) is from before
     // the camera left it, and the light may have changed since: the best guess with the images'
     // own statistics (signature.h) is aligned too. Not otherwise: between two views of different
@@ -174,9 +191,13 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
       ranked.emplace_back(tracker.CoarseEnergyOverAll(pyramid, guesses[g], alpha, beta), static_cast<int>(g));
     std::stable_sort(ranked.begin(), ranked.end());
     const int attempts = std::min<int>(2, static_cast<int>(ranked.size()));
-    for (int attempt = 0; attempt < attempts; ++attempt)
-      out.results.push_back(tracker.Track(pyramid, guesses[ranked[attempt].second], alpha, beta, since));
-    for (size_t g = attempts; g < ranked.size(); ++g) out.rest.push_back(guesses[ranked[g].second]);
+    for (size_t g = 0; g < ranked.size(); ++g) {
+      const SE3d& guess = guesses[ranked[g].second];
+      if (static_cast<int>(g) < attempts || static_cast<size_t>(ranked[g].second) >= first_sighted)
+        out.results.push_back(tracker.Track(pyramid, guess, alpha, beta, since));
+      else
+        out.rest.push_back(guess);
+    }
     out.alpha = alpha, out.beta = beta;
     double image_alpha, image_beta;
     if (suspended_ && ImageBrightness(signature, kf.signature, &image_alpha, &image_beta)) {
