@@ -18,7 +18,8 @@ Command AddRun(CLI::App& app) {
     int port = 8080;
     bool view = false;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
-    bool quiet = false, no_map = false, no_report = false, global_ba = false, sequential = false, realtime = false;
+    bool quiet = false, no_map = false, no_report = false, global_ba = false, truth_ba = false, sequential = false,
+         realtime = false;
     GtArgs gt;
     VideoArgs video;
   };
@@ -56,6 +57,10 @@ Command AddRun(CLI::App& app) {
                "statistics pushed over a WebSocket); its address is printed");
   app.add_option("--port", a->port, "Port of --view (default 8080; 0: any free port)");
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
+  app.add_flag("--truth-ba", a->truth_ba,
+               "Diagnostic, with ground truth: after the outputs are written, bundle-adjust the whole map again "
+               "from the true keyframe poses; how far it ends from them (eval.json keyframes_truth_ba, "
+               "keyframes_truth_ba.tum) is the bias of the map's own energy, apart from drift");
   // Ablation switches (paper VII-A); they override the config file.
   app.add_option("--nt", a->nt, "Temporal keyframes N_t (window.temporal_keyframes)");
   app.add_option("--nc", a->nc,
@@ -75,6 +80,7 @@ Command AddRun(CLI::App& app) {
     if (!a->robust.empty()) o.pba.robust.kind = o.tracker.robust.kind = ParseRobustKind(a->robust, "--robust");
     options.system.Validate();
     options.global_ba = a->global_ba;
+    options.truth_ba = a->truth_ba;
     options.start = a->start;
     options.end = a->end;
     options.quiet = a->quiet;

@@ -97,18 +97,40 @@ Image<float> GaussianSmooth(const Image<float>& image, float sigma) {
   return out;
 }
 
+namespace {
+
+// The 2-D kernel of the Gaussian of `sigma` (n x n, row-major) and |N * G| / 6, the noise level
+// the estimate above reports for unit noise smoothed by it.
+struct SmoothedUnitNoise {
+  std::vector<double> g;
+  int n = 0;
+  double estimate = 0.0;
+};
+SmoothedUnitNoise SmoothedUnitNoiseOf(float sigma) {
+  const std::vector<float> k = GaussianKernel(sigma);
+  SmoothedUnitNoise u;
+  u.n = static_cast<int>(k.size());
+  u.g.resize(static_cast<size_t>(u.n) * u.n);
+  for (int i = 0; i < u.n; ++i)
+    for (int j = 0; j < u.n; ++j) u.g[i * u.n + j] = double(k[i]) * k[j];
+  const std::vector<double> N = {1, -2, 1, -2, 4, -2, 1, -2, 1};
+  u.estimate = Norm(Convolve2d(u.g, u.n, u.n, N, 3, 3)) / 6.0;
+  return u;
+}
+
+}  // namespace
+
 double SmoothedGradientNoiseGain(float sigma) {
   if (!(sigma > 0.f)) return 1.0;
-  const std::vector<float> k = GaussianKernel(sigma);
-  const int n = static_cast<int>(k.size());
-  std::vector<double> g(static_cast<size_t>(n) * n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) g[i * n + j] = double(k[i]) * k[j];
+  const SmoothedUnitNoise u = SmoothedUnitNoiseOf(sigma);
   const std::vector<double> d = {0.5, 0.0, -0.5};
-  const std::vector<double> N = {1, -2, 1, -2, 4, -2, 1, -2, 1};
-  const double gradient = Norm(Convolve2d(g, n, n, d, 1, 3));
-  const double estimate = Norm(Convolve2d(g, n, n, N, 3, 3)) / 6.0;
-  return gradient / (estimate / std::sqrt(2.0));
+  return Norm(Convolve2d(u.g, u.n, u.n, d, 1, 3)) / (u.estimate / std::sqrt(2.0));
+}
+
+double SmoothedValueNoiseGain(float sigma) {
+  if (!(sigma > 0.f)) return 1.0;
+  const SmoothedUnitNoise u = SmoothedUnitNoiseOf(sigma);
+  return Norm(u.g) / u.estimate;
 }
 
 }  // namespace dsm

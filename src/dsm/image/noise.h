@@ -44,4 +44,8 @@ Image<float> GaussianSmooth(const Image<float>& image, float sigma);
 //   |D * G| / (|N * G| / (6 sqrt(2)))       (1 for sigma <= 0; 3.5 for 0.7 px).
 double SmoothedGradientNoiseGain(float sigma);
 
+// The same for an intensity: its noise is s |G|, so the factor that turns sigma_estimated into it
+// is |G| / (|N * G| / 6) (1 for sigma <= 0).
+double SmoothedValueNoiseGain(float sigma);
+
 }  // namespace dsm

@@ -55,6 +55,8 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["candidates.target_count"] = Set(&o->candidates.target_count);
   s["candidates.threshold_margin"] = Set(&o->candidates.threshold_margin);
   s["candidates.noise_factor"] = Set(&o->candidates.noise_factor);
+  s["candidates.contrast_factor"] = Set(&o->candidates.contrast_factor);
+  s["candidates.contrast_min_noise"] = Set(&o->candidates.contrast_min_noise);
   s["candidates.border"] = Set(&o->candidates.border);
   s["epipolar.max_search_fraction"] = Set(&o->epipolar.max_search_fraction);
   s["epipolar.min_search_px"] = Set(&o->epipolar.min_search_px);

@@ -2,11 +2,13 @@
 #include "dsm/mapping/candidate_selector.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
 
 #include "dsm/image/noise.h"
+#include "dsm/photometric/residual.h"
 #include "dsm/util/check.h"
 #include "dsm/util/median.h"
 
@@ -16,8 +18,11 @@ void CandidateSelectorOptions::Validate() const {
   if (target_count < 10 || target_count > 100000) throw InputError("candidates.target_count must be within 10..100000");
   if (!(threshold_margin >= 0)) throw InputError("candidates.threshold_margin must be non-negative");
   if (!(noise_factor >= 0)) throw InputError("candidates.noise_factor must be non-negative");
+  if (!(contrast_factor >= 0)) throw InputError("candidates.contrast_factor must be non-negative");
+  if (!(contrast_min_noise >= 0)) throw InputError("candidates.contrast_min_noise must be non-negative");
   if (border < 2) throw InputError("candidates.border must be at least 2");
   if (!(noise_gradient_gain > 0)) throw InputError("candidates.noise_gradient_gain must be positive");
+  if (!(noise_value_gain > 0)) throw InputError("candidates.noise_value_gain must be positive");
 }
 
 namespace {
@@ -76,6 +81,11 @@ BlockThresholds BlockThresholdsOf(const Level0& image, const CandidateSelectorOp
   });
   BlockThresholds t;
   t.noise_sigma = SmoothBlocks(noise);
+  // The image's noise level (noise.h: the median over its blocks) sets the contrast floor: a
+  // block's own estimate grows with its texture, which leaks into the kernel's response.
+  std::vector<float> sigmas(noise.data(), noise.data() + noise.size());
+  t.contrast = static_cast<float>(options.contrast_factor * options.noise_value_gain) *
+               (sigmas.empty() ? 0.f : Median(sigmas));
   t.select = SmoothBlocks(select);
   // Each gradient component (a central difference, (I(x+1) - I(x-1)) / 2) of pure noise has
   // standard deviation sigma / sqrt(2); its magnitude exceeds k sigma / sqrt(2) with probability
@@ -90,10 +100,19 @@ BlockThresholds BlockThresholdsOf(const Level0& image, const CandidateSelectorOp
   return t;
 }
 
-std::vector<SelectedPixel> SelectWithStep(const Image<float>& gradient, const BlockThresholds& thresholds, int step,
-                                          int border, const Image<uint8_t>* mask) {
+// One pick per cell of `step` x `step` pixels; `cells` counts the cells with a pick, kept or not.
+std::vector<SelectedPixel> SelectWithStep(const Level0& image, const BlockThresholds& thresholds, int step,
+                                          int border, const Image<uint8_t>* mask, int* cells) {
   std::vector<SelectedPixel> out;
+  const Image<float>& gradient = image.gradient;
   const int w = gradient.width(), h = gradient.height();
+  // A cell's pick without pattern contrast leaves the cell empty: neither a weaker pixel of the
+  // cell (whose gradient is the noise's all the more) nor a denser grid elsewhere takes its place.
+  auto has_contrast = [&](const Eigen::Vector2f& px) {
+    const int x = static_cast<int>(px.x()), y = static_cast<int>(px.y());
+    return PatternContrast(image.value, x, y) >= thresholds.contrast;
+  };
+  *cells = 0;
   for (int cy = border; cy < h - border; cy += step) {
     for (int cx = border; cx < w - border; cx += step) {
       // Level 0: the strongest pixel above its block threshold; else a weaker one (coarser detail).
@@ -111,9 +130,11 @@ std::vector<SelectedPixel> SelectWithStep(const Image<float>& gradient, const Bl
         }
       }
       if (best > 0.f) {
-        out.push_back({best_px, best});
+        ++*cells;
+        if (has_contrast(best_px)) out.push_back({best_px, best});
       } else if (best_weak > 0.f && ((cx / step + cy / step) % 2 == 0)) {
-        out.push_back({weak_px, best_weak});  // Half the weak cells: coverage without crowding.
+        ++*cells;  // Half the weak cells: coverage without crowding.
+        if (has_contrast(weak_px)) out.push_back({weak_px, best_weak});
       }
     }
   }
@@ -121,6 +142,19 @@ std::vector<SelectedPixel> SelectWithStep(const Image<float>& gradient, const Bl
 }
 
 }  // namespace
+
+float PatternContrast(const Image<float>& value, int x, int y) {
+  std::array<float, kPatternSize> v;
+  float mean = 0.f;
+  for (int i = 0; i < kPatternSize; ++i) {
+    v[i] = value(x + kPattern[i][0], y + kPattern[i][1]);
+    mean += v[i];
+  }
+  mean /= kPatternSize;
+  float var = 0.f;
+  for (float x_i : v) var += (x_i - mean) * (x_i - mean);
+  return std::sqrt(var / kPatternSize);
+}
 
 BlockThresholds ComputeBlockThresholds(const ImagePyramid& image, const CandidateSelectorOptions& options) {
   return BlockThresholdsOf(ReadLevel0(image), options);
@@ -134,12 +168,17 @@ std::vector<SelectedPixel> SelectCandidates(const ImagePyramid& image, const Can
   const double area = static_cast<double>(image.width(0)) * image.height(0);
   double step = std::max(2.0, std::sqrt(area / options.target_count));
   std::vector<SelectedPixel> best;
+  double best_ratio = 0.0;
   for (int attempt = 0; attempt < 6; ++attempt) {
-    std::vector<SelectedPixel> sel = SelectWithStep(level0.gradient, thresholds, static_cast<int>(std::lround(step)),
-                                                    options.border, valid_mask);
-    const double ratio = static_cast<double>(sel.size()) / options.target_count;
-    if (best.empty() || std::abs(ratio - 1.0) < std::abs(static_cast<double>(best.size()) / options.target_count - 1.0))
+    int cells = 0;
+    std::vector<SelectedPixel> sel = SelectWithStep(level0, thresholds, static_cast<int>(std::lround(step)),
+                                                    options.border, valid_mask, &cells);
+    // The step adapts to the cells with a pick, so dropped picks do not crowd the others.
+    const double ratio = static_cast<double>(cells) / options.target_count;
+    if (attempt == 0 || std::abs(ratio - 1.0) < std::abs(best_ratio - 1.0)) {
       best = std::move(sel);
+      best_ratio = ratio;
+    }
     if (ratio > 0.9 && ratio < 1.1) break;
     // Count scales roughly with 1 / step^2.
     step = std::max(2.0, step * std::sqrt(std::max(ratio, 0.05)));

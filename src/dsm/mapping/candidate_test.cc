@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "dsm/mapping/candidate_selector.h"
+#include "dsm/photometric/residual.h"
 #include "dsm/synth/renderer.h"
 
 namespace dsm {
@@ -84,13 +85,62 @@ TEST(CandidateSelector, KeepsOffNoiseOnFlatAreas) {
     for (const auto& s : SelectCandidates(pyramid, o)) flat += s.pixel.x() < 150;
     return flat;
   };
-  // Without the noise floor, half the weak cells of the flat half take a noise pixel.
+  // Without the noise floors, half the weak cells of the flat half take a noise pixel.
   CandidateSelectorOptions no_floor = options;
   no_floor.noise_factor = 0.f;
+  no_floor.contrast_factor = 0.f;
   EXPECT_GT(count_flat(no_floor), 150);
   // With it, only the noise's own 4-sigma tail: P = exp(-8) of ~38 k pixels, ~13.
   EXPECT_LT(count_flat(options), 30);
   EXPECT_GT(SelectCandidates(pyramid, options).size(), 0.85 * 600);  // The textured half has them all.
+}
+
+TEST(CandidateSelector, PatternContrastIsTheStandardDeviationOfThePattern) {
+  Image<float> image(9, 9);
+  for (size_t i = 0; i < image.size(); ++i) image.data()[i] = 50.f;
+  // Four of the eight pattern pixels at 60, four at 40: mean 50, standard deviation 10.
+  for (int i = 0; i < kPatternSize; ++i) image(4 + kPattern[i][0], 4 + kPattern[i][1]) = i % 2 ? 60.f : 40.f;
+  EXPECT_NEAR(PatternContrast(image, 4, 4), 10.f, 1e-5f);
+  image(6, 6) = 1000.f;  // Not a pattern pixel of (4, 4).
+  EXPECT_NEAR(PatternContrast(image, 4, 4), 10.f, 1e-5f);
+}
+
+// Left half: a checker of 4-px squares whose brightness varies by +-6 grey levels (standard
+// deviation 3.5), under noise of `sigma` (4 below): with the noise's help some of its edges pass
+// the gradient tests, but their patterns have hardly more contrast than the noise; right half: a
+// sharp checker as in HalfFlatHalfTextured.
+Image<float> HalfFaintHalfTextured(float sigma, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.f, sigma);
+  std::uniform_real_distribution<float> faint(94.f, 106.f), shade(40.f, 200.f);
+  Image<float> image(320, 240);
+  Image<float> squares(80, 60);
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 80; ++x) squares(x, y) = x < 40 ? faint(rng) : shade(rng);
+  for (int y = 0; y < 240; ++y)
+    for (int x = 0; x < 320; ++x) image(x, y) = squares(x / 4, y / 4) + noise(rng);
+  return image;
+}
+
+TEST(CandidateSelector, KeepsOffPatternsWithoutContrast) {
+  const ImagePyramid pyramid(HalfFaintHalfTextured(4.f, 5), 4);
+  CandidateSelectorOptions options;
+  options.target_count = 600;
+  CandidateSelectorOptions no_floor = options;
+  no_floor.contrast_factor = 0.f;
+  const auto with = SelectCandidates(pyramid, options), without = SelectCandidates(pyramid, no_floor);
+  const auto split = [](const std::vector<SelectedPixel>& sel) {
+    std::vector<Eigen::Vector2f> left, right;
+    for (const auto& s : sel) (s.pixel.x() < 150 ? left : right).push_back(s.pixel);
+    return std::make_pair(left, right);
+  };
+  const auto [with_left, with_right] = split(with);
+  const auto [without_left, without_right] = split(without);
+  EXPECT_GT(without_left.size(), 50u);  // The faint half's edges pass the gradient tests.
+  EXPECT_LT(with_left.size(), 0.1 * without_left.size()) << with_left.size() << " of " << without_left.size();
+  std::printf("faint half: %zu picks without the contrast floor, %zu with it\n", without_left.size(), with_left.size());
+  // A dropped pick leaves its cell empty: the textured half keeps the same picks, not a denser grid.
+  EXPECT_EQ(with_right, without_right);
 }
 
 TEST(Candidate, EpipolarSearchFindsTheTrueDepth) {

@@ -71,13 +71,27 @@ struct MapRun {
   Eigen::Vector3f bounds_min = Eigen::Vector3f::Constant(INFINITY), bounds_max = -bounds_min;
   Trajectory keyframes, frames;
   std::optional<Trajectory> before_global_ba;
+  std::optional<Trajectory> truth_ba;  // Keyframes after System::AdjustWholeMapFrom(the truth).
   std::optional<nlohmann::json> eval;
 };
 
+// RunOptions::truth_ba: the ground truth at the map's keyframes, moved into the map's frame and
+// scale (Sim(3) on the keyframes), set as their poses, and the whole map adjusted from there.
+// Needs three keyframes with ground truth.
+std::optional<Trajectory> AdjustFromTruth(System& system, const Trajectory& ground_truth, const Trajectory& keyframes) {
+  if (keyframes.size() < 3) return std::nullopt;
+  EvalOptions eval;
+  eval.align = Alignment::kSim3;
+  const EvalResult kf = Evaluate(ground_truth, keyframes, eval);
+  system.AdjustWholeMapFrom(ReferenceInEstimateFrame(ground_truth, keyframes, kf, eval));
+  return system.KeyframeTrajectory();
+}
+
 // Ends a map: waits for its mapping, runs the global BA when asked, writes its trajectories (and,
-// with write_map, its points and keyframes as PLY).
+// with write_map, its points and keyframes as PLY); then, given `truth` (RunOptions::truth_ba),
+// adjusts the map from the true poses (keyframes_truth_ba.tum).
 MapRun CloseMap(System& system, const fs::path& dir, const MapSet::Spans& spans, bool global_ba,
-                const PinholeCamera& camera, bool write_map) {
+                const PinholeCamera& camera, bool write_map, const Trajectory* truth) {
   system.Finish();
   MapRun m;
   m.dir = dir;
@@ -108,6 +122,10 @@ MapRun CloseMap(System& system, const fs::path& dir, const MapSet::Spans& spans,
     WritePly(dir / "map.ply", points);
     WritePly(dir / "keyframes.ply", KeyframeCloud(system.map()));
   }
+  if (truth) {
+    m.truth_ba = AdjustFromTruth(system, *truth, m.keyframes);
+    if (m.truth_ba) WriteTumTrajectory(dir / "keyframes_truth_ba.tum", *m.truth_ba);
+  }
   return m;
 }
 
@@ -131,6 +149,12 @@ void EvaluateMap(const Dataset& dataset, MapRun* m, std::string* line) {
     const EvalResult b = Evaluate(dataset.ground_truth, *m->before_global_ba, eval);
     (*m->eval)["keyframes_before_global_ba"] = ToJson(b);
     std::snprintf(text, sizeof(text), ", before global BA %.2f mm", 1000.0 * b.ape.rmse);
+    *line += text;
+  }
+  if (m->truth_ba) {
+    const EvalResult t = Evaluate(dataset.ground_truth, *m->truth_ba, eval);
+    (*m->eval)["keyframes_truth_ba"] = ToJson(t);
+    std::snprintf(text, sizeof(text), ", adjusted from the true poses %.2f mm", 1000.0 * t.ape.rmse);
     *line += text;
   }
   WriteJson(m->dir / "eval.json", *m->eval);
@@ -268,7 +292,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       },
       [&](int id, System& system, const MapSet::Spans& spans) {
         if (ended.size() <= static_cast<size_t>(id)) ended.resize(id + 1);
-        ended[id] = CloseMap(system, map_dir(id), spans, options.global_ba, undistorter.output(), options.write_map);
+        ended[id] = CloseMap(system, map_dir(id), spans, options.global_ba, undistorter.output(), options.write_map,
+                             options.truth_ba && dataset.HasGroundTruth() ? &dataset.ground_truth : nullptr);
       });
   int dropped = 0;
   std::vector<int> skipped;  // Frames whose file could not be used.
@@ -417,6 +442,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"initialization", s.initialization},
       {"image_noise_sigma", s.image_noise_sigma},
       {"smoothing_sigma", s.smoothing_sigma},
+      {"contrast_floor", s.contrast_floor},
       {"points_created", s.points_created},
       {"reobservations", s.reobservations},
       {"covisible_keyframes_selected", s.covisible_keyframes_selected},

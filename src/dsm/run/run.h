@@ -46,6 +46,10 @@ struct RunOptions {
   // track against the previous keyframe).
   double realtime_latency_target_ms = std::numeric_limits<double>::infinity();
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
+  // Diagnostic, with ground truth: after the outputs are written, the whole map is bundle-adjusted
+  // again from the true keyframe poses (System::AdjustWholeMapFrom); eval.json
+  // "keyframes_truth_ba" and keyframes_truth_ba.tum give where it ends.
+  bool truth_ba = false;
   bool write_map = true;   // map.ply and keyframes.ply beside the trajectories.
   bool write_report = true;  // report.html (report/report.h) in the output folder.
   // >= 0: the live viewer (live_view.h) on this localhost port (0: a free one), its address printed.
@@ -56,7 +60,8 @@ struct RunOptions {
 
 struct RunSummary {
   nlohmann::json stats;
-  // {"keyframes": ..., "frames": ...}; with the global BA also "keyframes_before_global_ba".
+  // {"keyframes": ..., "frames": ...}; with the global BA also "keyframes_before_global_ba", with
+  // the truth BA "keyframes_truth_ba".
   std::optional<nlohmann::json> eval;
   std::string line;                    // One-line summary.
   int interrupt_signal = 0;  // The signal that stopped the run early (interrupt.h), or 0.

@@ -66,7 +66,7 @@ System::System(const PinholeCamera& camera, const SystemOptions& options)
 
 System::~System() = default;
 
-void System::ChooseSmoothing(const Image<float>& first) {
+void System::ChooseNoiseHandling(const Image<float>& first) {
   stats_.image_noise_sigma = EstimateNoiseSigma(first);
   if (options_.smoothing_sigma >= 0.0) {
     stats_.smoothing_sigma = options_.smoothing_sigma;
@@ -75,6 +75,9 @@ void System::ChooseSmoothing(const Image<float>& first) {
     stats_.smoothing_sigma = noisy ? options_.smoothing_auto_sigma : 0.0;
   }
   options_.candidates.noise_gradient_gain = SmoothedGradientNoiseGain(static_cast<float>(stats_.smoothing_sigma));
+  options_.candidates.noise_value_gain = SmoothedValueNoiseGain(static_cast<float>(stats_.smoothing_sigma));
+  stats_.contrast_floor = stats_.image_noise_sigma >= options_.candidates.contrast_min_noise;
+  if (!stats_.contrast_floor) options_.candidates.contrast_factor = 0.f;
 }
 
 FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms,
@@ -84,7 +87,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   if (!suspended_) ++stats_.frames;  // A suspended map's frame counts once it is tracked.
   NoteTimestamp(index, t_ns);
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
-  if (stats_.smoothing_sigma < 0.0) ChooseSmoothing(input);
+  if (stats_.smoothing_sigma < 0.0) ChooseNoiseHandling(input);
   const Image<float> smoothed =
       stats_.smoothing_sigma > 0.0 ? GaussianSmooth(input, static_cast<float>(stats_.smoothing_sigma)) : Image<float>();
   const Image<float>& image = stats_.smoothing_sigma > 0.0 ? smoothed : input;

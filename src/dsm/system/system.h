@@ -76,6 +76,7 @@ struct SystemStats {
   std::string initialization;  // How the map started: "two-view" or "planar" (initializer.h).
   double image_noise_sigma = -1.0;  // Noise level of the first frame (image/noise.h), grey levels.
   double smoothing_sigma = -1.0;    // Gaussian smoothing applied to every frame, pixels (0: none).
+  bool contrast_floor = false;      // Candidates kept off patterns at the noise's contrast.
   std::vector<double> tracking_ms;  // Per tracked frame: its pyramid and alignment.
   std::vector<double> tracing_ms;   // Per tracked frame: candidate tracing (mapping side).
   std::vector<double> mapping_ms;   // Per keyframe: everything the mapping side does to it.
@@ -192,6 +193,14 @@ class System {
 
   // Bundle adjustment of every keyframe and point of the map (keyframe 0 fixed), once, at the end.
   void RunGlobalBundleAdjustment();
+  // Diagnostic (dsm run --truth-ba): each keyframe whose stamp `world_from_cam` has is set to its
+  // pose there (its points move with it: their inverse depths are host-relative), then the whole
+  // map is bundle-adjusted (keyframe 0 fixed) until an adjustment lowers the energy by less than
+  // 0.1%, at most four times. Started from the true poses (in the map's frame and scale), the
+  // keyframes end where the map's own energy has its minimum: how far that lies from the truth
+  // is the bias of what the map holds (its points, observations and error models), apart from any
+  // drift on the way. Returns the number of keyframes set.
+  int AdjustWholeMapFrom(const Trajectory& world_from_cam);
 
   // The keyframes of the current window: temporal (oldest first) then covisible.
   std::vector<int> ActiveKeyframes() const;
@@ -245,9 +254,10 @@ class System {
     std::shared_ptr<const MapSnapshot> snapshot;  // With SystemOptions::map_snapshots.
   };
 
-  // On the first frame: its noise level, the smoothing of every frame (options.smoothing_sigma) and
-  // the candidates' noise gain that goes with it.
-  void ChooseSmoothing(const Image<float>& first);
+  // On the first frame: its noise level, the smoothing of every frame (options.smoothing_sigma),
+  // the candidates' noise gains that go with it, and whether their contrast floor applies
+  // (candidate_selector.h: from candidates.contrast_min_noise on).
+  void ChooseNoiseHandling(const Image<float>& first);
   FrameReport Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure);
   void StartMap(const struct InitResult& init);
   // The best alignment of the frame against the reference from the motion guesses; commits nothing.
