@@ -110,7 +110,7 @@ std::vector<SelectedPixel> SelectWithStep(const Level0& image, const BlockThresh
   // cell (whose gradient is the noise's all the more) nor a denser grid elsewhere takes its place.
   auto has_contrast = [&](const Eigen::Vector2f& px) {
     const int x = static_cast<int>(px.x()), y = static_cast<int>(px.y());
-    return PatternContrast(image.value, x, y) >= thresholds.contrast;
+    return thresholds.contrast <= 0.f || PatternContrast(image.value, x, y) >= thresholds.contrast;
   };
   *cells = 0;
   for (int cy = border; cy < h - border; cy += step) {

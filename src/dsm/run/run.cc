@@ -75,13 +75,19 @@ struct MapRun {
   std::optional<nlohmann::json> eval;
 };
 
+// The evaluation of a map's trajectories: Sim(3)-aligned (a monocular map has no metres).
+EvalOptions Sim3Evaluation() {
+  EvalOptions eval;
+  eval.align = Alignment::kSim3;
+  return eval;
+}
+
 // RunOptions::truth_ba: the ground truth at the map's keyframes, moved into the map's frame and
 // scale (Sim(3) on the keyframes), set as their poses, and the whole map adjusted from there.
 // Needs three keyframes with ground truth.
 std::optional<Trajectory> AdjustFromTruth(System& system, const Trajectory& ground_truth, const Trajectory& keyframes) {
   if (keyframes.size() < 3) return std::nullopt;
-  EvalOptions eval;
-  eval.align = Alignment::kSim3;
+  const EvalOptions eval = Sim3Evaluation();
   const EvalResult kf = Evaluate(ground_truth, keyframes, eval);
   system.AdjustWholeMapFrom(ReferenceInEstimateFrame(ground_truth, keyframes, kf, eval));
   return system.KeyframeTrajectory();
@@ -133,8 +139,7 @@ MapRun CloseMap(System& system, const fs::path& dir, const MapSet::Spans& spans,
 // eval.json; appends ", keyframe ATE ..." to `line`.
 void EvaluateMap(const Dataset& dataset, MapRun* m, std::string* line) {
   if (!dataset.HasGroundTruth() || m->keyframes.size() < 3 || m->frames.size() < 3) return;
-  EvalOptions eval;
-  eval.align = Alignment::kSim3;
+  const EvalOptions eval = Sim3Evaluation();
   const EvalResult kf = Evaluate(dataset.ground_truth, m->keyframes, eval);
   const EvalResult fr = Evaluate(dataset.ground_truth, m->frames, eval);
   m->eval = nlohmann::json{{"keyframes", ToJson(kf)}, {"frames", ToJson(fr)}};

@@ -76,8 +76,8 @@ void System::ChooseNoiseHandling(const Image<float>& first) {
   }
   options_.candidates.noise_gradient_gain = SmoothedGradientNoiseGain(static_cast<float>(stats_.smoothing_sigma));
   options_.candidates.noise_value_gain = SmoothedValueNoiseGain(static_cast<float>(stats_.smoothing_sigma));
-  stats_.contrast_floor = stats_.image_noise_sigma >= options_.candidates.contrast_min_noise;
-  if (!stats_.contrast_floor) options_.candidates.contrast_factor = 0.f;
+  if (stats_.image_noise_sigma < options_.candidates.contrast_min_noise) options_.candidates.contrast_factor = 0.f;
+  stats_.contrast_floor = options_.candidates.contrast_factor > 0.f;
 }
 
 FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms,

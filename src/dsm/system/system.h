@@ -199,8 +199,8 @@ class System {
   // 0.1%, at most four times. Started from the true poses (in the map's frame and scale), the
   // keyframes end where the map's own energy has its minimum: how far that lies from the truth
   // is the bias of what the map holds (its points, observations and error models), apart from any
-  // drift on the way. Returns the number of keyframes set.
-  int AdjustWholeMapFrom(const Trajectory& world_from_cam);
+  // drift on the way.
+  void AdjustWholeMapFrom(const Trajectory& world_from_cam);
 
   // The keyframes of the current window: temporal (oldest first) then covisible.
   std::vector<int> ActiveKeyframes() const;

@@ -272,22 +272,19 @@ void System::RunGlobalBundleAdjustment() {
   stats_.global_ba_ms = AdjustWholeMap().time_ms;
 }
 
-int System::AdjustWholeMapFrom(const Trajectory& world_from_cam) {
-  int set = 0;
+void System::AdjustWholeMapFrom(const Trajectory& world_from_cam) {
   for (size_t i = 0; i < world_from_cam.size(); ++i) {
     for (int k = 0; k < map_.NumKeyframes(); ++k) {
       Keyframe& keyframe = map_.keyframe(k);
       if (std::llabs(keyframe.t_ns - world_from_cam.stamps_ns[i]) > 1000000) continue;  // 1 ms
       keyframe.cam_from_world = world_from_cam.poses[i].Inverse();
-      ++set;
     }
   }
-  if (map_.NumKeyframes() < 2) return set;
+  if (map_.NumKeyframes() < 2) return;
   for (int round = 0; round < 4; ++round) {
     const PbaSummary s = AdjustWholeMap();
     if (!(s.final_energy < 0.999 * s.initial_energy)) break;  // Converged: the energy moved < 0.1%.
   }
-  return set;
 }
 
 std::vector<uint8_t> System::SeenIn(const std::vector<int>& ids, int target) {
