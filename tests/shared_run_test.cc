@@ -2,20 +2,22 @@
 // End to end on the shared sequences, both modes:
 //   EuRoC MH01 frames: initialised within 20 frames, every later frame tracked, keyframe RMS ATE
 //   (Sim(3)) <= 5 mm for DSM and <= 12 mm for DSM-SW.
-//   Path-traced room walk (blender_room_s3): every frame after the start tracked, DSM <= 1.5 mm
-//   and below DSM-SW, DSM-SW <= 4 mm (its window: N_t + N_c temporal keyframes). Before
-//   occlusions were handled DSM's scale collapsed there as a pillar passed close to the camera
-//   (1066 mm); before the young map's bundle adjustments its scale drifted (3.64 mm); before the
-//   candidates' contrast floor its points on faint texture biased the map (1.83 mm, DSM-SW 5.89).
-//   A final global bundle adjustment still improves the walk, to <= 1.2 mm (measured 1.12 ->
-//   0.96 mm), and the map adjusted from the true poses (--truth-ba) ends <= 1.2 mm from them
-//   (0.99 mm; 1.44 without the contrast floor).
+//   Path-traced room walk (blender_room_s3), from five start frames: every frame after the start
+//   tracked, the medians DSM <= 1.15 mm and below DSM-SW, DSM-SW <= 2 mm (its window: N_t + N_c
+//   temporal keyframes), after a final global bundle adjustment <= 1 mm and below DSM's, and the
+//   map adjusted from the true poses (--truth-ba) <= 1 mm from them. Before occlusions were
+//   handled DSM's scale collapsed there as a pillar passed close to the camera (1066 mm); before
+//   the young map's bundle adjustments its scale drifted (3.64 mm); before the candidates'
+//   contrast floor its points on faint texture biased the map (1.83 mm, DSM-SW 5.89, from frame
+//   0); with bilinear residuals the render noise biased it (medians 1.27, 2.22, 0.97, 1.01).
 //   EuRoC frames with defects spliced in (15 black frames, 15 of noise, a corrupt file and a hand
 //   over the lens for 41 frames): no black or noise frame, nor one the hand covers for three
 //   quarters or more, is tracked, and none of them nor a half-covered one becomes a keyframe;
 //   tracking is regained within 5 frames of each episode's end by relocalisation in the same map,
 //   every frame after the last defect is tracked, and the keyframe ATE stays <= 6 mm.
 #include <map>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -23,6 +25,7 @@
 #include "dsm/run/defect_checks.h"
 #include "dsm/run/run.h"
 #include "dsm/testing/test_data.h"
+#include "dsm/util/median.h"
 
 namespace dsm {
 namespace {
@@ -55,40 +58,64 @@ TEST(SharedRun, EurocMeetsTheAccuracyTargets) {
   const auto runs = RunBothModes("euroc_mh01_shake", 20);
   EXPECT_LE(Ate(runs.at(MapMode::kFull)), 0.005);
   EXPECT_FALSE(runs.at(MapMode::kFull).stats["contrast_floor"].get<bool>());  // A camera's noise: 0.47.
+  EXPECT_EQ(runs.at(MapMode::kFull).stats["interpolation"].get<std::string>(), "bilinear");
   EXPECT_LE(Ate(runs.at(MapMode::kSlidingWindow)), 0.012);
 }
 
-// The young map's bundle adjustments (SystemOptions::young_map_ba_last) at 10, 20 and 40
-// keyframes keep the walk's scale from drifting: 3.64 mm without them. The room's render noise
-// (4.7 grey levels) turns the candidates' contrast floor on.
+// The room walk from the first five of the twelve start frames the README reports (0, 2, ... 8):
+// one run is one draw of a chaotic system (its keyframe ATE ranges 0.8-2.2 mm with the start
+// alone), the median of five is not. DSM's runs also bundle-adjust the whole map at the end
+// (--global-ba) and adjust it again from the true poses (--truth-ba); the ATE before the global
+// adjustment is that of a plain run. Measured medians: DSM 0.90 mm, DSM-SW 1.62, after the global
+// adjustment 0.83, from the true poses 0.86; with bilinear residuals 1.27, 2.22, 0.97, 1.01. The
+// young map's bundle adjustments (SystemOptions::young_map_ba_last) at 10, 20 and 40 keyframes
+// keep the walk's scale from drifting (3.64 mm without them). The room's render noise (4.7 grey
+// levels) turns the candidates' contrast floor and the B-spline residuals on.
 TEST(SharedRun, RoomWalkKeepsItsScale) {
-  const auto runs = RunBothModes("blender_room_s3", 20);
-  const RunSummary& dsm = runs.at(MapMode::kFull);
-  EXPECT_LE(Ate(dsm), 0.0015);
-  EXPECT_LE(Ate(runs.at(MapMode::kSlidingWindow)), 0.004);
-  EXPECT_TRUE(dsm.stats["contrast_floor"].get<bool>());
-  EXPECT_LT(Ate(dsm), Ate(runs.at(MapMode::kSlidingWindow)));
-  std::vector<int> young;
-  for (const auto& k : dsm.stats["per_keyframe"])
-    if (k.contains("young_map_ba")) young.push_back(k["young_map_ba"]["keyframes"].get<int>());
-  EXPECT_EQ(young, (std::vector<int>{10, 20, 40}));
-}
-
-TEST(SharedRun, RoomWalkGlobalBundleAdjustmentMakesTheLapConsistent) {
   const Dataset dataset = OpenDataset(testing::SharedDataDir() / "blender_room_s3");
-  RunOptions options;
-  options.pace = Pace::kSequential;
-  options.quiet = true;
-  options.global_ba = true;
-  options.truth_ba = true;
-  const RunSummary s = RunDataset(dataset, options, testing::ScratchDir("shared_run_room_global_ba"));
-  std::printf("blender_room_s3 dsm --global-ba: %s\n", s.line.c_str());
-  ASSERT_TRUE(s.eval.has_value());
-  const double before = (*s.eval)["keyframes_before_global_ba"]["ape"]["rmse"].get<double>();
-  const double after = (*s.eval)["keyframes"]["ape"]["rmse"].get<double>();
-  EXPECT_LE(after, 0.0012);
-  EXPECT_LT(after, before);
-  EXPECT_LE((*s.eval)["keyframes_truth_ba"]["ape"]["rmse"].get<double>(), 0.0012);
+  std::vector<double> dsm, sw, global, truth;
+  for (const int start : {0, 2, 4, 6, 8}) {
+    for (const MapMode mode : {MapMode::kFull, MapMode::kSlidingWindow}) {
+      RunOptions options;
+      options.pace = Pace::kSequential;
+      options.quiet = true;
+      options.start = start;
+      options.system.mode = mode;
+      options.global_ba = options.truth_ba = mode == MapMode::kFull;
+      const std::string name = std::string(mode == MapMode::kFull ? "dsm" : "sw") + " from frame " + std::to_string(start);
+      const RunSummary s = RunDataset(dataset, options, testing::ScratchDir("shared_run_room"));
+      std::printf("blender_room_s3 %s: %s\n", name.c_str(), s.line.c_str());
+      const int init = s.stats["initialized_at_frame"];
+      EXPECT_LE(init, start + 20) << name;
+      EXPECT_GE(s.stats["frames_tracked"].get<int>(), s.stats["frames"].get<int>() - (init - start)) << name;
+      EXPECT_TRUE(s.stats["contrast_floor"].get<bool>()) << name;
+      EXPECT_EQ(s.stats["interpolation"].get<std::string>(), "bspline") << name;
+      ASSERT_TRUE(s.eval.has_value()) << name;
+      if (mode == MapMode::kSlidingWindow) {
+        sw.push_back(Ate(s));
+        continue;
+      }
+      dsm.push_back((*s.eval)["keyframes_before_global_ba"]["ape"]["rmse"].get<double>());
+      global.push_back(Ate(s));
+      truth.push_back((*s.eval)["keyframes_truth_ba"]["ape"]["rmse"].get<double>());
+      if (start == 0) {
+        std::vector<int> young;
+        for (const auto& k : s.stats["per_keyframe"])
+          if (k.contains("young_map_ba")) young.push_back(k["young_map_ba"]["keyframes"].get<int>());
+        EXPECT_EQ(young, (std::vector<int>{10, 20, 40}));
+      }
+    }
+  }
+  std::printf("blender_room_s3 medians of five starts: dsm %.2f mm, sw %.2f, --global-ba %.2f, --truth-ba %.2f\n",
+              1e3 * Median(dsm), 1e3 * Median(sw), 1e3 * Median(global), 1e3 * Median(truth));
+  EXPECT_LE(Median(dsm), 0.00115);
+  EXPECT_LE(Median(sw), 0.002);
+  EXPECT_LT(Median(dsm), Median(sw));
+  // A final global bundle adjustment still improves the walk (the window holds old keyframes
+  // fixed), and the map's own optimum lies near the true poses.
+  EXPECT_LE(Median(global), 0.001);
+  EXPECT_LT(Median(global), Median(dsm));
+  EXPECT_LE(Median(truth), 0.001);
 }
 
 TEST(SharedRun, EurocWithDefectsRelocalisesInTheSameMap) {

@@ -72,6 +72,46 @@ const bool kHasAvx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
 
 }  // namespace
 
+namespace {
+
+// The cubic B-spline's weights of the pixels -1, 0, 1, 2 for a point at fraction f past pixel 0,
+//   B(f + 1) = (1 - f)^3 / 6,  B(f) = (3 f^3 - 6 f^2 + 4) / 6,
+//   B(1 - f) = (-3 f^3 + 3 f^2 + 3 f + 1) / 6,  B(2 - f) = f^3 / 6,
+// and their derivatives d/df.
+inline void BSplineWeights(float f, float* w, float* d) {
+  const float g = 1.f - f, f2 = f * f, f3 = f2 * f;
+  w[0] = g * g * g * (1.f / 6.f);
+  w[1] = (3.f * f3 - 6.f * f2 + 4.f) * (1.f / 6.f);
+  w[2] = (-3.f * f3 + 3.f * f2 + 3.f * f + 1.f) * (1.f / 6.f);
+  w[3] = f3 * (1.f / 6.f);
+  d[0] = -0.5f * g * g;
+  d[1] = 1.5f * f2 - 2.f * f;
+  d[2] = -1.5f * f2 + f + 0.5f;
+  d[3] = 0.5f * f2;
+}
+
+}  // namespace
+
+PixelGrad ImagePyramid::SampleBSpline(int l, float x, float y) const {
+  const Image<PixelFixed>& img = fixed_[l];
+  const int ix = static_cast<int>(x), iy = static_cast<int>(y);
+  float wx[4], dwx[4], wy[4], dwy[4];
+  BSplineWeights(x - static_cast<float>(ix), wx, dwx);
+  BSplineWeights(y - static_cast<float>(iy), wy, dwy);
+  float v = 0.f, gx = 0.f, gy = 0.f;
+  for (int j = 0; j < 4; ++j) {
+    const PixelFixed* p = img.Row(iy - 1 + j) + ix - 1;
+    const float p0 = p[0].value, p1 = p[1].value, p2 = p[2].value, p3 = p[3].value;
+    const float row = wx[0] * p0 + wx[1] * p1 + wx[2] * p2 + wx[3] * p3;
+    const float drow = dwx[0] * p0 + dwx[1] * p1 + dwx[2] * p2 + dwx[3] * p3;
+    v += wy[j] * row;
+    gx += wy[j] * drow;
+    gy += dwy[j] * row;
+  }
+  constexpr float kScale = 1.f / kValueScale;
+  return PixelGrad(v * kScale, gx * kScale, gy * kScale);
+}
+
 void ImagePyramid::Sample8(int l, const float* x, const float* y, float* value, float* dx, float* dy) const {
 #ifdef DSM_SAMPLE8_AVX2
   if (kHasAvx2) return Sample8Avx2(fixed_[l], x, y, value, dx, dy);

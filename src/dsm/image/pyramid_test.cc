@@ -105,5 +105,63 @@ TEST(ImagePyramid, SampleEightIsSampleBitForBit) {
   }
 }
 
+TEST(ImagePyramid, BSplineReproducesRampsAndDifferentiatesItsOwnValues) {
+  // A linear ramp comes back exactly (value and gradient), wherever it is sampled.
+  Image<float> ramp(64, 48);
+  for (int y = 0; y < ramp.height(); ++y)
+    for (int x = 0; x < ramp.width(); ++x) ramp(x, y) = 100.f + 1.5f * x - 0.75f * y;
+  const ImagePyramid pyr(ramp, 1);
+  for (const auto& [x, y] : {std::pair{10.f, 12.f}, {20.25f, 7.5f}, {33.9f, 30.1f}}) {
+    const PixelGrad g = pyr.SampleBSpline(0, x, y);
+    EXPECT_NEAR(g[0], 100.f + 1.5f * x - 0.75f * y, 1e-3f);
+    EXPECT_NEAR(g[1], 1.5f, 1e-4f);
+    EXPECT_NEAR(g[2], -0.75f, 1e-4f);
+  }
+  // On noise, the gradient is the derivative of the values (central differences of samples).
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> grey(0.f, 255.f);
+  Image<float> img(64, 48);
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) img(x, y) = grey(rng);
+  const ImagePyramid noisy(img, 1);
+  const float h = 1e-2f;
+  for (const auto& [x, y] : {std::pair{10.3f, 12.6f}, {20.7f, 7.2f}, {33.5f, 30.5f}}) {
+    const PixelGrad g = noisy.SampleBSpline(0, x, y);
+    const float dx = (noisy.SampleBSpline(0, x + h, y)[0] - noisy.SampleBSpline(0, x - h, y)[0]) / (2.f * h);
+    const float dy = (noisy.SampleBSpline(0, x, y + h)[0] - noisy.SampleBSpline(0, x, y - h)[0]) / (2.f * h);
+    EXPECT_NEAR(g[1], dx, 0.05f);
+    EXPECT_NEAR(g[2], dy, 0.05f);
+  }
+}
+
+TEST(ImagePyramid, BSplineAveragesNoiseAlikeAtEveryPosition) {
+  // The variance of interpolated white noise, at a pixel and half-way between four: bilinear
+  // interpolation divides it by 4 between the two, the B-spline by less than 1.25.
+  std::mt19937 rng(9);
+  std::normal_distribution<float> noise(0.f, 5.f);
+  Image<float> img(256, 256);
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) img(x, y) = 500.f + noise(rng);
+  const ImagePyramid pyr(img, 1);
+  const auto variance = [&](float offset, bool bspline) {
+    double sum = 0.0, sum_sq = 0.0;
+    int n = 0;
+    for (int y = 4; y < 250; y += 2)
+      for (int x = 4; x < 250; x += 2) {
+        const float v = bspline ? pyr.SampleBSpline(0, x + offset, y + offset)[0] : pyr.SampleValue(0, x + offset, y + offset);
+        sum += v;
+        sum_sq += v * v;
+        ++n;
+      }
+    return sum_sq / n - (sum / n) * (sum / n);
+  };
+  const double bilinear_ratio = variance(0.f, false) / variance(0.5f, false);
+  const double bspline_ratio = variance(0.f, true) / variance(0.5f, true);
+  EXPECT_GT(bilinear_ratio, 3.4);
+  EXPECT_LT(bilinear_ratio, 4.6);
+  EXPECT_GT(bspline_ratio, 1.0);
+  EXPECT_LT(bspline_ratio, 1.3);  // Expected 0.25 / 0.212 = 1.18.
+}
+
 }  // namespace
 }  // namespace dsm

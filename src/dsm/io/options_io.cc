@@ -26,6 +26,8 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["system.smoothing_sigma"] = Set(&o->smoothing_sigma);
   s["system.smoothing_noise_threshold"] = Set(&o->smoothing_noise_threshold);
   s["system.smoothing_auto_sigma"] = Set(&o->smoothing_auto_sigma);
+  s["system.interpolation"] = Set(&o->interpolation);
+  s["system.bspline_min_noise"] = Set(&o->bspline_min_noise);
   s["system.young_map_ba_first"] = Set(&o->young_map_ba_first);
   s["system.young_map_ba_last"] = Set(&o->young_map_ba_last);
   s["system.young_map_ba_step"] = Set(&o->young_map_ba_step);

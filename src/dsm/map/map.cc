@@ -25,10 +25,15 @@ int Map::AddPoint(Point point) {
   DSM_CHECK(point.host >= 0 && point.host < NumKeyframes(), "point host out of range");
   point.id = NumPoints();
   const Keyframe& host = *keyframes_[point.host];
-  point.patch_ok = host.pyramid != nullptr && SampleHostPatch(*host.pyramid, 0, point.pixel, &point.patch);
+  point.patch_ok = host.pyramid != nullptr && SampleHostPatch(*host.pyramid, 0, point.pixel, interpolation_, &point.patch);
   keyframes_[point.host]->points.push_back(point.id);
   points_.push_back(std::move(point));
   return points_.back().id;
+}
+
+void Map::set_interpolation(Interpolation interpolation) {
+  DSM_CHECK(points_.empty(), "the interpolation is set before the first point");
+  interpolation_ = interpolation;
 }
 
 int Map::LoadPyramids(const std::vector<int>& ids) {

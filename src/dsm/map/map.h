@@ -114,8 +114,14 @@ class Map {
   int NumLoadedPyramids() const;
   int NumPyramidsRebuilt() const { return pyramids_rebuilt_; }  // By LoadPyramids, in all.
 
+  // How every residual of this map samples its images (photometric/residual.h); set before the
+  // first point.
+  Interpolation interpolation() const { return interpolation_; }
+  void set_interpolation(Interpolation interpolation);
+
  private:
   int epoch_ = 0, pyramids_rebuilt_ = 0;
+  Interpolation interpolation_ = Interpolation::kBilinear;
   std::vector<std::unique_ptr<Keyframe>> keyframes_;
   std::vector<Point> points_;
 };

@@ -43,7 +43,7 @@ bool RefineCandidate(const Map& map, const PinholeCamera& camera, int host_id, c
                      const std::vector<int>& targets, const ActivationOptions& options, RefinedPoint* out) {
   const Keyframe& host = map.keyframe(host_id);
   HostPatch patch;
-  if (!SampleHostPatch(host.Pyramid(), 0, c.pixel, &patch)) return false;
+  if (!SampleHostPatch(host.Pyramid(), 0, c.pixel, map.interpolation(), &patch)) return false;
   float rho = c.Idepth();
   if (!(rho > 0.f)) return false;
   struct Target {

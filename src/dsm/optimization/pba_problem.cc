@@ -44,7 +44,7 @@ void Problem::SetLevel(int level) {
     PointState& ps = points_[i];
     const Point& p = map_->point(ps.id);
     const Eigen::Vector2f px((p.pixel.x() + 0.5f) * scale - 0.5f, (p.pixel.y() + 0.5f) * scale - 0.5f);
-    ps.patch_ok = SampleHostPatch(map_->keyframe(cams_[ps.host]).Pyramid(), level, px, &ps.patch);
+    ps.patch_ok = SampleHostPatch(map_->keyframe(cams_[ps.host]).Pyramid(), level, px, map_->interpolation(), &ps.patch);
     for (ObsState& o : ps.obs) o.x = o.y = -1;
   });
 }

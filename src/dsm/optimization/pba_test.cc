@@ -311,7 +311,7 @@ TEST(Pba, AgreesWithACeresSolveOfTheSameProblem) {
     const Point& p = theirs.map.point(i);
     const Point& q = ours.map.point(i);
     HostPatch patch;
-    if (!SampleHostPatch(theirs.map.keyframe(p.host).Pyramid(), 0, p.pixel, &patch)) continue;
+    if (!SampleHostPatch(theirs.map.keyframe(p.host).Pyramid(), 0, p.pixel, theirs.map.interpolation(), &patch)) continue;
     for (size_t oi = 0; oi < p.observations.size(); ++oi) {
       if (q.observations[oi].outlier) continue;  // what the PBA dropped
       const Keyframe& h = ours.map.keyframe(p.host);

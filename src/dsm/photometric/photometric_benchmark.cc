@@ -33,7 +33,7 @@ void BM_FitErrorModel(benchmark::State& state) {
 BENCHMARK(BM_FitErrorModel)->Arg(600)->Arg(3000)->Unit(benchmark::kMicrosecond);
 
 // Arguments: targets, derivatives (0 none, 2 all), spread (patch centres over the whole image, or
-// 1: in a 48x48 corner that stays in the caches). Random textured images, random patches, a
+// 1: in a 48x48 corner that stays in the caches), interpolation (0 bilinear, 1 B-spline). Random textured images, random patches, a
 // small motion between host and target.
 void BM_EvaluateObservation(benchmark::State& state) {
   const int num_targets = static_cast<int>(state.range(0));
@@ -56,6 +56,7 @@ void BM_EvaluateObservation(benchmark::State& state) {
   std::vector<int> target_of(kObservations);
   for (int i = 0; i < kObservations; ++i) {
     patches[i].center = Eigen::Vector2f(ux(rng), uy(rng));
+    patches[i].interpolation = state.range(3) != 0 ? Interpolation::kBSpline : Interpolation::kBilinear;
     for (int k = 0; k < kPatternSize; ++k) {
       patches[i].value[k] = grey(rng);
       patches[i].weight_g[k] = 0.5f;
@@ -82,11 +83,13 @@ void BM_EvaluateObservation(benchmark::State& state) {
       1e-9 * static_cast<double>(evaluated), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_EvaluateObservation)
-    ->Args({1, 0, 1})
-    ->Args({1, 2, 1})
-    ->Args({1, 0, 0})
-    ->Args({40, 0, 0})
-    ->Args({40, 2, 0});
+    ->Args({1, 0, 1, 0})
+    ->Args({1, 2, 1, 0})
+    ->Args({1, 2, 1, 1})
+    ->Args({1, 0, 0, 0})
+    ->Args({40, 0, 0, 0})
+    ->Args({40, 2, 0, 0})
+    ->Args({40, 2, 0, 1});
 
 }  // namespace
 }  // namespace dsm

@@ -39,16 +39,26 @@ struct AffineBrightness {
   double b = 0.0;
 };
 
+// How the residuals of a map sample its images, host and target alike: bilinear interpolation, or
+// the cubic B-spline approximation (ImagePyramid::SampleBSpline). On images with strong
+// independent pixel noise (path-traced renders) bilinear interpolation averages the noise down by
+// up to 4x half-way between pixels, so each residual's energy has a one-pixel ripple of the
+// noise's variance that pulls every depth and pose; the B-spline's averaging hardly depends on
+// the position (residual.cc). Its price: 4 x 4 pixels per sample instead of 2 x 2, and a blur.
+enum class Interpolation { kBilinear, kBSpline };
+
 // The host side of an observation at one pyramid level: its pattern intensities and gradient
 // weights, sampled once per level.
 struct HostPatch {
   Eigen::Vector2f center = Eigen::Vector2f::Zero();  // Pixel at the level.
   std::array<float, kPatternSize> value{};
   std::array<float, kPatternSize> weight_g{};  // Gradient weights w_g of the host pixels.
+  Interpolation interpolation = Interpolation::kBilinear;  // Of the values, here and in the targets.
 };
 
-// Samples the host patch; false if the pattern leaves the image (border 1 px).
-bool SampleHostPatch(const ImagePyramid& host, int level, const Eigen::Vector2f& center, HostPatch* patch);
+// Samples the host patch; false if the pattern leaves the image (border 1 px; 2 for the B-spline).
+bool SampleHostPatch(const ImagePyramid& host, int level, const Eigen::Vector2f& center, Interpolation interpolation,
+                     HostPatch* patch);
 
 struct ObservationInput {
   const PinholeCamera* camera = nullptr;  // Camera of the level.
@@ -73,8 +83,8 @@ struct ObservationResiduals {
 };
 
 // Evaluates the 8 residuals and the derivatives asked for (kIdepth: J_idepth only, all a solve
-// needs when both keyframes are fixed); false when the point is behind the target or a pattern
-// pixel falls outside it (border 2 px).
+// needs when both keyframes are fixed), sampling the target as the host patch was sampled; false
+// when the point is behind the target or a pattern pixel falls outside it (border 2 px).
 enum class Derivatives { kNone, kIdepth, kAll };
 bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, Derivatives derivatives,
                          ObservationResiduals* out);

@@ -2,6 +2,7 @@
 // Jacobians of the photometric residual against central differences (pose, inverse depth, affine).
 #include "dsm/photometric/residual.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -38,10 +39,12 @@ struct PairSetup {
     xi << 0.05, -0.03, 0.02, 0.01, -0.02, 0.015;
     target_from_host = SE3d::Exp(xi);
   }
+  Interpolation interpolation = Interpolation::kBilinear;
+
   bool Eval(const SE3d& T, float rho, const AffineBrightness& h, const AffineBrightness& t, bool jac,
             ObservationResiduals* out) const {
     HostPatch patch;
-    if (!SampleHostPatch(host, 0, Eigen::Vector2f(70.3f, 60.6f), &patch)) return false;
+    if (!SampleHostPatch(host, 0, Eigen::Vector2f(70.3f, 60.6f), interpolation, &patch)) return false;
     ObservationInput in;
     in.camera = &cam;
     in.target = &target;
@@ -57,8 +60,11 @@ struct PairSetup {
   }
 };
 
-TEST(Residual, JacobiansMatchCentralDifferences) {
-  const PairSetup s;
+class Residual : public ::testing::TestWithParam<Interpolation> {};
+
+TEST_P(Residual, JacobiansMatchCentralDifferences) {
+  PairSetup s;
+  s.interpolation = GetParam();
   ObservationResiduals base;
   ASSERT_TRUE(s.Eval(s.target_from_host, s.idepth, s.ah, s.at, true, &base));
   const double h = 2e-3;  // float residuals: a step well above their rounding
@@ -99,14 +105,15 @@ TEST(Residual, JacobiansMatchCentralDifferences) {
   }
 }
 
-TEST(Residual, ZeroForAConsistentPair) {
+TEST_P(Residual, ZeroForAConsistentPair) {
   // Target = host image seen from the same pose with a known brightness change: residuals vanish.
   PairSetup s;
+  s.interpolation = GetParam();
   s.target = s.host;
   ObservationResiduals out;
   const AffineBrightness same{0.0, 0.0};
   HostPatch patch;
-  ASSERT_TRUE(SampleHostPatch(s.host, 0, Eigen::Vector2f(50.f, 40.f), &patch));
+  ASSERT_TRUE(SampleHostPatch(s.host, 0, Eigen::Vector2f(50.f, 40.f), s.interpolation, &patch));
   ObservationInput in;
   in.camera = &s.cam;
   in.target = &s.target;
@@ -123,6 +130,45 @@ TEST(Residual, ZeroForAConsistentPair) {
   in.t = Eigen::Vector3f(0, 0, -3.f);
   EXPECT_FALSE(EvaluateObservation(patch, in, false, &out));
 }
+
+TEST(ResidualInterpolation, BSplinePatchesSampleTheSmoothSurface) {
+  // Host and target sample alike: the patch holds the B-spline's values, and a target
+  // observation reads the B-spline there too (zero residual against the same image at a
+  // sub-pixel centre, where bilinear and B-spline values differ).
+  const PairSetup s;
+  HostPatch bilinear, bspline;
+  const Eigen::Vector2f centre(50.5f, 40.5f);
+  ASSERT_TRUE(SampleHostPatch(s.host, 0, centre, Interpolation::kBilinear, &bilinear));
+  ASSERT_TRUE(SampleHostPatch(s.host, 0, centre, Interpolation::kBSpline, &bspline));
+  EXPECT_EQ(bspline.interpolation, Interpolation::kBSpline);
+  double differ = 0.0;
+  for (int k = 0; k < kPatternSize; ++k) {
+    const float x = centre.x() + kPattern[k][0], y = centre.y() + kPattern[k][1];
+    EXPECT_EQ(bspline.value[k], s.host.SampleBSpline(0, x, y)[0]);
+    EXPECT_EQ(bilinear.value[k], s.host.Sample(0, x, y)[0]);
+    differ = std::max(differ, static_cast<double>(std::abs(bspline.value[k] - bilinear.value[k])));
+  }
+  EXPECT_GT(differ, 0.01);  // A smooth image: the blur is slight, but there.
+  // Against the same image at the same pose: zero only if the target is read by the B-spline too.
+  ObservationInput in;
+  in.camera = &s.cam;
+  in.target = &s.host;
+  in.R.setIdentity();
+  in.t.setZero();
+  ObservationResiduals out;
+  ASSERT_TRUE(EvaluateObservation(bspline, in, false, &out));
+  for (float r : out.r) EXPECT_NEAR(r, 0.f, 1e-3f);
+  // The B-spline needs one more pixel of border.
+  HostPatch edge;
+  EXPECT_TRUE(SampleHostPatch(s.host, 0, Eigen::Vector2f(3.5f, 40.f), Interpolation::kBilinear, &edge));
+  EXPECT_FALSE(SampleHostPatch(s.host, 0, Eigen::Vector2f(3.5f, 40.f), Interpolation::kBSpline, &edge));
+}
+
+INSTANTIATE_TEST_SUITE_P(BothInterpolations, Residual,
+                         ::testing::Values(Interpolation::kBilinear, Interpolation::kBSpline),
+                         [](const ::testing::TestParamInfo<Interpolation>& param) {
+                           return param.param == Interpolation::kBSpline ? "BSpline" : "Bilinear";
+                         });
 
 }  // namespace
 }  // namespace dsm

@@ -448,6 +448,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"image_noise_sigma", s.image_noise_sigma},
       {"smoothing_sigma", s.smoothing_sigma},
       {"contrast_floor", s.contrast_floor},
+      {"interpolation", s.interpolation},
       {"points_created", s.points_created},
       {"reobservations", s.reobservations},
       {"covisible_keyframes_selected", s.covisible_keyframes_selected},

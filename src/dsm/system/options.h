@@ -85,6 +85,12 @@ struct SystemOptions {
   double smoothing_sigma = 0.0;
   double smoothing_noise_threshold = 2.5;
   double smoothing_auto_sigma = 0.7;
+  // How residuals sample images (photometric/residual.h): "bilinear", "bspline", or "auto" (the
+  // default): the cubic B-spline when the first frame's noise level reaches bspline_min_noise grey
+  // levels (render noise; the room: 4.7), bilinear below (camera images: EuRoC 0.47, where the
+  // ripple is 100x weaker and the B-spline's blur and cost buy nothing). README, Interpolation.
+  std::string interpolation = "auto";
+  double bspline_min_noise = 2.5;
   // Bundle adjustments of the whole young map (--mode dsm): every keyframe but the first free,
   // when the map reaches young_map_ba_first keyframes, then twice, four times as many, ..., up to
   // young_map_ba_last (0: none), each after the keyframe is published (System::FinishKeyframe; it

@@ -78,6 +78,10 @@ void System::ChooseNoiseHandling(const Image<float>& first) {
   options_.candidates.noise_value_gain = SmoothedValueNoiseGain(static_cast<float>(stats_.smoothing_sigma));
   if (stats_.image_noise_sigma < options_.candidates.contrast_min_noise) options_.candidates.contrast_factor = 0.f;
   stats_.contrast_floor = options_.candidates.contrast_factor > 0.f;
+  const bool bspline = options_.interpolation == "bspline" ||
+                       (options_.interpolation == "auto" && stats_.image_noise_sigma >= options_.bspline_min_noise);
+  map_.set_interpolation(bspline ? Interpolation::kBSpline : Interpolation::kBilinear);
+  stats_.interpolation = bspline ? "bspline" : "bilinear";
 }
 
 FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms,

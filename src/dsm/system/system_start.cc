@@ -63,7 +63,7 @@ void System::StartMap(const InitResult& init) {
     p.idepth = ip.idepth;
     p.created_at_keyframe = 2;
     HostPatch patch;
-    if (!SampleHostPatch(map_.keyframe(0).Pyramid(), 0, p.pixel, &patch)) continue;
+    if (!SampleHostPatch(map_.keyframe(0).Pyramid(), 0, p.pixel, map_.interpolation(), &patch)) continue;
     map_.AddPoint(p);
     ++stats_.points_created;
     ++stats_.per_keyframe.back().points_created;
