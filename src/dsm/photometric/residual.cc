@@ -64,8 +64,8 @@ bool EvaluateObservation(const HostPatch& host, const ObservationInput& in, Deri
     // The noise of bilinear samples: with independent pixel noise of variance sigma^2 a sample at
     // fraction (f, g) has variance sigma^2 c(f) c(g), c(f) = (1 - f)^2 + f^2, from sigma^2 at a
     // pixel to sigma^2 / 4 half-way; E[r^2] carries s^2 sigma^2 c(f) c(g), a ripple that draws
-    // each pattern pixel towards the pixel corners. The B-spline's squared weights sum to
-    // 0.25 .. 0.21: no ripple to speak of. Its derivatives are the energy's own.
+    // each pattern pixel towards the middle between four pixels. The B-spline's squared weights
+    // sum to 0.25 .. 0.21: no ripple to speak of. Its derivatives are the energy's own.
     for (int k = 0; k < n; ++k) {
       const PixelGrad g = in.target->SampleBSpline(in.level, u[k], v[k]);
       value[k] = g[0];
