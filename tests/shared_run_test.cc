@@ -30,24 +30,33 @@
 namespace dsm {
 namespace {
 
-// Both modes' runs, after checking initialisation and tracking.
-std::map<MapMode, RunSummary> RunBothModes(const std::string& name, int max_init_frame) {
+// A sequential run of `mode` from frame `start` (options.global_ba and truth_ba as given), after
+// checking that it initialised within `max_init_frames` of its start, tracked every frame after
+// and was evaluated.
+RunSummary CheckedRun(const Dataset& dataset, const std::string& name, MapMode mode, int start, int max_init_frames,
+                      RunOptions options = {}) {
+  options.pace = Pace::kSequential;
+  options.quiet = true;
+  options.start = start;
+  options.system.mode = mode;
+  const std::string label =
+      name + " " + (mode == MapMode::kFull ? "dsm" : "sw") + (start > 0 ? " from frame " + std::to_string(start) : "");
+  const RunSummary s = RunDataset(dataset, options, testing::ScratchDir("shared_run_" + name));
+  std::printf("%s: %s (PBA %.0f ms/KF)\n", label.c_str(), s.line.c_str(),
+              s.stats["timing_ms"]["pba"]["mean"].get<double>());
+  const int init = s.stats["initialized_at_frame"];
+  EXPECT_LE(init, start + max_init_frames) << label;
+  EXPECT_GE(s.stats["frames_tracked"].get<int>(), s.stats["frames"].get<int>() - (init - start)) << label;
+  EXPECT_TRUE(s.eval.has_value()) << label;
+  return s;
+}
+
+// Both modes' runs from the first frame (CheckedRun).
+std::map<MapMode, RunSummary> RunBothModes(const std::string& name, int max_init_frames) {
   const Dataset dataset = OpenDataset(testing::SharedDataDir() / name);
   std::map<MapMode, RunSummary> runs;
-  for (const MapMode mode : {MapMode::kSlidingWindow, MapMode::kFull}) {
-    RunOptions options;
-    options.pace = Pace::kSequential;
-    options.quiet = true;
-    options.system.mode = mode;
-    const RunSummary s = RunDataset(dataset, options, testing::ScratchDir("shared_run_" + name));
-    std::printf("%s %s: %s (PBA %.0f ms/KF)\n", name.c_str(), mode == MapMode::kFull ? "dsm" : "sw", s.line.c_str(),
-                s.stats["timing_ms"]["pba"]["mean"].get<double>());
-    const int init = s.stats["initialized_at_frame"];
-    EXPECT_LE(init, max_init_frame);
-    EXPECT_GE(s.stats["frames_tracked"].get<int>(), s.stats["frames"].get<int>() - init);
-    EXPECT_TRUE(s.eval.has_value());
-    runs.emplace(mode, s);
-  }
+  for (const MapMode mode : {MapMode::kSlidingWindow, MapMode::kFull})
+    runs.emplace(mode, CheckedRun(dataset, name, mode, 0, max_init_frames));
   return runs;
 }
 
@@ -77,20 +86,11 @@ TEST(SharedRun, RoomWalkKeepsItsScale) {
   for (const int start : {0, 2, 4, 6, 8}) {
     for (const MapMode mode : {MapMode::kFull, MapMode::kSlidingWindow}) {
       RunOptions options;
-      options.pace = Pace::kSequential;
-      options.quiet = true;
-      options.start = start;
-      options.system.mode = mode;
       options.global_ba = options.truth_ba = mode == MapMode::kFull;
-      const std::string name = std::string(mode == MapMode::kFull ? "dsm" : "sw") + " from frame " + std::to_string(start);
-      const RunSummary s = RunDataset(dataset, options, testing::ScratchDir("shared_run_room"));
-      std::printf("blender_room_s3 %s: %s\n", name.c_str(), s.line.c_str());
-      const int init = s.stats["initialized_at_frame"];
-      EXPECT_LE(init, start + 20) << name;
-      EXPECT_GE(s.stats["frames_tracked"].get<int>(), s.stats["frames"].get<int>() - (init - start)) << name;
-      EXPECT_TRUE(s.stats["contrast_floor"].get<bool>()) << name;
-      EXPECT_EQ(s.stats["interpolation"].get<std::string>(), "bspline") << name;
-      ASSERT_TRUE(s.eval.has_value()) << name;
+      const RunSummary s = CheckedRun(dataset, "blender_room_s3", mode, start, 20, options);
+      EXPECT_TRUE(s.stats["contrast_floor"].get<bool>()) << start;
+      EXPECT_EQ(s.stats["interpolation"].get<std::string>(), "bspline") << start;
+      ASSERT_TRUE(s.eval.has_value()) << start;
       if (mode == MapMode::kSlidingWindow) {
         sw.push_back(Ate(s));
         continue;

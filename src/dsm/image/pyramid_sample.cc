@@ -70,10 +70,6 @@ __attribute__((target("avx2"))) void Sample8Avx2(const Image<PixelFixed>& img, c
 const bool kHasAvx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
 #endif
 
-}  // namespace
-
-namespace {
-
 // The cubic B-spline's weights of the pixels -1, 0, 1, 2 for a point at fraction f past pixel 0,
 //   B(f + 1) = (1 - f)^3 / 6,  B(f) = (3 f^3 - 6 f^2 + 4) / 6,
 //   B(1 - f) = (-3 f^3 + 3 f^2 + 3 f + 1) / 6,  B(2 - f) = f^3 / 6,

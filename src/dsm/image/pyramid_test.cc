@@ -2,12 +2,23 @@
 #include "dsm/image/pyramid.h"
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 #include <gtest/gtest.h>
 
 namespace dsm {
 namespace {
+
+// An image of independent uniform grey levels in [0, 255).
+Image<float> RandomImage(int width, int height, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> grey(0.f, 255.f);
+  Image<float> img(width, height);
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) img(x, y) = grey(rng);
+  return img;
+}
 
 TEST(ImagePyramid, LevelsAverageAndGradientsAreCentralDifferences) {
   Image<float> img(16, 8);
@@ -75,12 +86,8 @@ TEST(ImagePyramid, FixedPointFullPyramidAndIntensityOnlyFrames) {
 // The eight-point sampler (vectorised where the CPU has AVX2) gives Sample's floats bit for bit,
 // on every level, with negative gradients, up to the last pixel bilinear sampling may touch.
 TEST(ImagePyramid, SampleEightIsSampleBitForBit) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> grey(0.f, 255.f);
-  Image<float> img(96, 64);
-  for (int y = 0; y < img.height(); ++y)
-    for (int x = 0; x < img.width(); ++x) img(x, y) = grey(rng);
-  const ImagePyramid pyr(img, 3);
+  const ImagePyramid pyr(RandomImage(96, 64, 11), 3);
+  std::mt19937 rng(12);  // The sample points.
   for (int l = 0; l < pyr.levels(); ++l) {
     std::uniform_real_distribution<float> ux(0.f, pyr.width(l) - 1.001f), uy(0.f, pyr.height(l) - 1.001f);
     for (int round = 0; round < 50; ++round) {
@@ -118,12 +125,7 @@ TEST(ImagePyramid, BSplineReproducesRampsAndDifferentiatesItsOwnValues) {
     EXPECT_NEAR(g[2], -0.75f, 1e-4f);
   }
   // On noise, the gradient is the derivative of the values (central differences of samples).
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> grey(0.f, 255.f);
-  Image<float> img(64, 48);
-  for (int y = 0; y < img.height(); ++y)
-    for (int x = 0; x < img.width(); ++x) img(x, y) = grey(rng);
-  const ImagePyramid noisy(img, 1);
+  const ImagePyramid noisy(RandomImage(64, 48, 5), 1);
   const float h = 1e-2f;
   for (const auto& [x, y] : {std::pair{10.3f, 12.6f}, {20.7f, 7.2f}, {33.5f, 30.5f}}) {
     const PixelGrad g = noisy.SampleBSpline(0, x, y);

@@ -33,8 +33,8 @@ void BM_FitErrorModel(benchmark::State& state) {
 BENCHMARK(BM_FitErrorModel)->Arg(600)->Arg(3000)->Unit(benchmark::kMicrosecond);
 
 // Arguments: targets, derivatives (0 none, 2 all), spread (patch centres over the whole image, or
-// 1: in a 48x48 corner that stays in the caches), interpolation (0 bilinear, 1 B-spline). Random textured images, random patches, a
-// small motion between host and target.
+// 1: in a 48x48 corner that stays in the caches), interpolation (0 bilinear, 1 B-spline). Random
+// textured images, random patches, a small motion between host and target.
 void BM_EvaluateObservation(benchmark::State& state) {
   const int num_targets = static_cast<int>(state.range(0));
   const auto derivatives = static_cast<Derivatives>(state.range(1));
