@@ -319,6 +319,7 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
   WriteText(dir / "bad_config.yaml", "pba: {speed: 11}\n");
   WriteText(dir / "bad_value.yaml", "window: {temporal_keyframes: 1}\n");
   WriteText(dir / "bad_interpolation.yaml", "system: {interpolation: bicubic}\n");
+  WriteText(dir / "bad_texture_loss.yaml", "pba: {texture_loss_ratio: 1.5}\n");
   WriteText(dir / "badcam" / "camera.yaml", "model: pinhole\nwidth: 640\nheight: 480\nintrinsics: [400, 400, 320]\n");
   const std::vector<Case> cases = {
       {"info " + (dir / "nothing").string(), "not found"},
@@ -344,6 +345,9 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " +
            (dir / "bad_interpolation.yaml").string(),
        "system.interpolation must be auto, bilinear or bspline, not 'bicubic'"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " +
+           (dir / "bad_texture_loss.yaml").string(),
+       "pba.texture_loss_ratio"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 500 --out " + (dir / "o").string(), "--start"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gt-frame imu", "--gt-frame"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 339 --out " + (dir / "o").string(),

@@ -114,6 +114,9 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["pba.skip_outlier_ratio"] = Set(&o->pba.skip_outlier_ratio);
   s["pba.max_sigma_ratio"] = Set(&o->pba.max_sigma_ratio);
   s["pba.refit_all_models"] = Set(&o->pba.refit_all_models);
+  s["pba.texture_loss_ratio"] = Set(&o->pba.texture_loss.max_variance_ratio);
+  s["pba.texture_min_host_variance"] = Set(&o->pba.texture_loss.min_host_variance);
+  s["pba.texture_max_depth_ratio"] = Set(&o->pba.texture_loss.max_depth_ratio);
   // The robust function applies to the bundle adjustment and the tracker alike.
   s["robust.function"] = [o](const YAML::Node& n) {
     const RobustKind kind = ParseRobustKind(n.as<std::string>(), "robust.function");

@@ -23,6 +23,7 @@ void PbaOptions::Validate() const {
   if (!(drop_outlier_ratio > 0 && drop_outlier_ratio <= skip_outlier_ratio && skip_outlier_ratio <= 1))
     throw InputError("pba outlier ratios must satisfy 0 < drop <= skip <= 1");
   robust.Validate();
+  texture_loss.Validate();
 }
 
 PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const PbaOptions& options,
@@ -74,7 +75,7 @@ PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>&
   }
   if (!summary.yielded) {
     problem.FitModelsFromLinearization();  // At level 0, where the loop ended.
-    summary.observations_removed = problem.MarkOutliers();
+    summary.observations_removed = problem.MarkOutliers(&summary.observations_texture_lost);
   }
   summary.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return summary;

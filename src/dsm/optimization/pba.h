@@ -30,6 +30,7 @@
 #include "dsm/geometry/camera.h"
 #include "dsm/map/map.h"
 #include "dsm/photometric/robust.h"
+#include "dsm/photometric/texture_loss.h"
 
 namespace dsm {
 
@@ -51,6 +52,10 @@ struct PbaOptions {
   RobustOptions robust;
   double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
   double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
+  // An observation whose target shows no trace of the host's texture (texture_loss.h) at the
+  // finest level takes no part there: weight 0, left out of the error models' fit, and removed
+  // after the PBA.
+  TextureLossOptions texture_loss;
   // A keyframe's fitted scale sigma is at most this many times the median over the problem's
   // keyframes (0: unbounded; see RunPba).
   double max_sigma_ratio = 3.0;
@@ -85,6 +90,7 @@ struct PbaSummary {
   int keyframes = 0, fixed_keyframes = 0, points = 0, observations = 0;
   double initial_energy = 0.0, final_energy = 0.0;  // Of the finest level (same models), before / after.
   int observations_removed = 0;
+  int observations_texture_lost = 0;  // Of those removed: the texture vanished in the target.
   double time_ms = 0.0;
 };
 

@@ -67,7 +67,7 @@ void Problem::FitModels() {
         ObservationResiduals res;
         if (!Evaluate(ps, o, Derivatives::kNone, &res)) continue;
         Remember(res, &o);
-        if (skip_fit) continue;
+        if (skip_fit || TextureLostAtLevel(ps, res)) continue;
         std::vector<float>& out = chunk_residuals[chunk][o.target];
         for (int k = 0; k < kPatternSize; ++k) out.push_back(std::sqrt(res.weight_g[k]) * res.r[k]);
       }
@@ -84,7 +84,7 @@ void Problem::FitModelsFromLinearization() {
   for (const PointState& ps : points_) {
     if (!ps.patch_ok || !FitsModels(ps)) continue;
     for (const ObsState& o : ps.obs) {
-      if (!o.valid[current_]) continue;
+      if (!o.valid[current_] || o.texture_lost[current_]) continue;
       std::vector<float>& out = chunk_residuals[0][o.target];
       out.insert(out.end(), o.residual[current_].begin(), o.residual[current_].end());
     }
@@ -146,14 +146,17 @@ bool Problem::Apply(const Solution& step) {
 
 // After the PBA: marks observations with too many bad pixels (level 0, fitted models), by the
 // residuals of the accepted linearisation (and the models fitted to them).
-int Problem::MarkOutliers() {
+int Problem::MarkOutliers(int* texture_lost) {
   int removed = 0;
+  *texture_lost = 0;
   for (PointState& ps : points_) {
     Point& p = map_->point(ps.id);
     for (size_t j = 0; j < ps.obs.size(); ++j) {
       const ObsState& o = ps.obs[j];
       int bad = kPatternSize;
-      if (ps.patch_ok && o.valid[current_]) {
+      const bool lost = ps.patch_ok && o.valid[current_] && o.texture_lost[current_];
+      *texture_lost += lost;
+      if (ps.patch_ok && o.valid[current_] && !lost) {
         bad = 0;
         for (float r : o.residual[current_]) bad += models_[o.target].IsOutlier(r);
       }

@@ -53,6 +53,7 @@ struct ObsState {
   // Its weighted residuals sqrt(w_g) r at that linearisation's state; valid: it projected.
   std::array<bool, 2> valid{false, false};
   std::array<PatternValues, 2> residual{};
+  std::array<bool, 2> texture_lost{false, false};  // At that state (texture_loss.h): takes no part.
   int x = -1, y = -1;  // Where it last projected at this level (for prefetching); -1: not yet.
 };
 
@@ -114,8 +115,9 @@ class Problem {
   bool Apply(const Solution& step);
 
   // After the PBA: marks observations with too many bad pixels (level 0, fitted models), by the
-  // residuals of the accepted linearisation (and the models fitted to them).
-  int MarkOutliers();
+  // residuals of the accepted linearisation (and the models fitted to them), and those whose
+  // texture was lost there (counted into *texture_lost); returns how many it marked.
+  int MarkOutliers(int* texture_lost);
 
  private:
   // The target pixels of point i's observations, where they last projected (they move little
@@ -143,6 +145,12 @@ class Problem {
 
   // Whether the point's residuals take part in the model fits: with pba.refit_all_models false,
   // only points hosted by free keyframes.
+  // Whether the observation's target lost the point's texture (texture_loss.h), judged at the
+  // finest level only: at the coarser ones the adjustment is still pulling re-observations into
+  // place (at a lap's end a pattern may rest beside its texture until they converge).
+  bool TextureLostAtLevel(const PointState& ps, const ObservationResiduals& res) const {
+    return level_ == 0 && TextureLost(ps.patch, res, map_->point(ps.id).idepth, options_.texture_loss);
+  }
   bool FitsModels(const PointState& ps) const { return options_.refit_all_models || !fixed_[ps.host]; }
 
   // Fits the error models (pba_models.h) and stores the fitted ones in their keyframes.

@@ -10,6 +10,7 @@
 
 #include "dsm/optimization/pba_selection.h"
 #include "dsm/optimization/pba_world.h"
+#include "dsm/synth/renderer.h"
 #include "dsm/testing/motion_error.h"
 
 namespace dsm {
@@ -134,6 +135,53 @@ TEST(Pba, OnlyTheNewestModelIsRefittedWhenAsked) {
   for (int k = 0; k < 3; ++k) all.map.keyframe(k).error_model = old_model;
   RunPba(&all.map, all.seq.camera, {0, 1, 2, 3}, PbaOptions{});
   EXPECT_NE(all.map.keyframe(1).error_model.sigma, 4.0);
+}
+
+// A plain surface covering the left half of the newest keyframe's view (a near textureless
+// occluder): the points behind it lose their texture there, and those observations are removed
+// after the adjustment; where the view is uncovered they stay. With the test off none counts.
+TEST(Pba, ObservationsThatLostTheirTextureAreRemoved) {
+  const auto run = [](const TextureLossOptions& texture_loss, World* w) {
+    BuildWorld({0, 6, 12, 18}, w);
+    Image<float> covered = synth::RenderSequenceFrame(w->seq, 18, synth::FormationOptions{}).image;
+    for (int y = 0; y < covered.height(); ++y)
+      for (int x = 0; x < covered.width() / 2; ++x) covered(x, y) = 128.f;
+    w->map.keyframe(3).pyramid = std::make_shared<const ImagePyramid>(covered, 4);
+    PbaOptions options;
+    options.texture_loss = texture_loss;
+    return RunPba(&w->map, w->seq.camera, {0, 1, 2, 3}, options);
+  };
+  World w;
+  const PbaSummary s = run(TextureLossOptions{}, &w);
+  int behind = 0, behind_removed = 0, beside = 0, beside_removed = 0;
+  for (int i = 0; i < w.map.NumPoints(); ++i) {
+    const Point& p = w.map.point(i);
+    // Where the point lies in keyframe 3, at the true poses and depth.
+    const Eigen::Vector3d in_host = w.seq.camera.Unproject(p.pixel.x(), p.pixel.y()) / p.idepth;
+    const Eigen::Vector3d x = w.true_cam_from_world[3] * (w.true_cam_from_world[p.host].Inverse() * in_host);
+    const double u = w.seq.camera.fx * x.x() / x.z() + w.seq.camera.cx;
+    const Observation* o = nullptr;
+    for (const Observation& ob : p.observations)
+      if (ob.target == 3) o = &ob;
+    if (!o || u < 4 || u > w.seq.camera.width - 4) continue;
+    if (u < w.seq.camera.width / 2 - 4) {
+      ++behind;
+      behind_removed += o->outlier;
+    } else if (u > w.seq.camera.width / 2 + 4) {
+      ++beside;
+      beside_removed += o->outlier;
+    }
+  }
+  ASSERT_GT(behind, 50);
+  ASSERT_GT(beside, 50);
+  EXPECT_EQ(behind_removed, behind);
+  EXPECT_LT(beside_removed, 0.1 * beside);
+  EXPECT_GE(s.observations_texture_lost, 0.9 * behind);
+  EXPECT_LE(s.observations_texture_lost, s.observations_removed);
+  TextureLossOptions off;
+  off.max_variance_ratio = 0.0;
+  World w_off;
+  EXPECT_EQ(run(off, &w_off).observations_texture_lost, 0);
 }
 
 TEST(Pba, KeepsTheNewestObservationsOutsideTheWindow) {

@@ -21,6 +21,8 @@
 //                                       points more than 20 % off that median
 //     error_sigma, error_nu, inlier_threshold, inlier_share
 //                                       the keyframe's fitted error model (robust.h)
+//     observations_texture_lost         of observations_removed, those whose target showed no
+//                                       trace of the point's texture (texture_loss.h)
 //   frames.csv          one row per frame read: frame, map (0 the first, 1 the next, ...),
 //                       status (initializing | ok | lost | skipped), keyframe and relocalised
 //                       (0 | 1; the map's first keyframe, the start's reference frame, is not

@@ -104,6 +104,7 @@ struct SystemStats {
     int loop_ba_keyframes = 0;  // Keyframes the loop bundle adjustment after this one freed (0: none).
     double loop_ba_ms = 0.0;
     int observations_removed = 0;  // Marked outliers after its bundle adjustment.
+    int observations_texture_lost = 0;  // Of those: the texture vanished in the target (texture_loss.h).
     int points_culled = 0;         // Removed after its bundle adjustment.
     // Tracking of the frame that became this keyframe (0 for the first two).
     double tracking_rmse = 0.0, tracking_inlier_ratio = 0.0;

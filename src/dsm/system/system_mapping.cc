@@ -101,6 +101,7 @@ void System::MapNewKeyframe(int kf) {
   log.pba_iterations = pba.iterations;
   log.pba_ms = pba.time_ms;
   log.observations_removed = pba.observations_removed;
+  log.observations_texture_lost = pba.observations_texture_lost;
   stats_.pba_ms.push_back(pba.time_ms);
   log.points_culled = CullPoints();
   PublishTrackingReference();

@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/photometric/texture_loss.h"
+
+#include "dsm/util/check.h"
+
+namespace dsm {
+
+void TextureLossOptions::Validate() const {
+  if (!(max_variance_ratio >= 0.0 && max_variance_ratio < 1.0))
+    throw InputError("pba.texture_loss_ratio must be within [0, 1)");
+  if (!(min_host_variance >= 0.0)) throw InputError("pba.texture_min_host_variance must be non-negative");
+  if (!(max_depth_ratio >= 1.0)) throw InputError("pba.texture_max_depth_ratio must be at least 1");
+}
+
+bool TextureLost(const HostPatch& host, const ObservationResiduals& res, float idepth,
+                 const TextureLossOptions& options) {
+  if (!(options.max_variance_ratio > 0.0)) return false;
+  if (!(res.target_depth * idepth <= options.max_depth_ratio)) return false;
+  float mean_h = 0.f, mean_t = 0.f;
+  for (int k = 0; k < kPatternSize; ++k) {
+    mean_h += host.value[k];
+    mean_t += host.value[k] - res.r[k];
+  }
+  mean_h /= kPatternSize;
+  mean_t /= kPatternSize;
+  float var_h = 0.f, var_t = 0.f;
+  for (int k = 0; k < kPatternSize; ++k) {
+    const float dh = host.value[k] - mean_h, dt = host.value[k] - res.r[k] - mean_t;
+    var_h += dh * dh;
+    var_t += dt * dt;
+  }
+  var_h /= kPatternSize;
+  var_t /= kPatternSize;
+  return var_h >= options.min_host_variance && var_t < options.max_variance_ratio * var_h;
+}
+
+}  // namespace dsm
