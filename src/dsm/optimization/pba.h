@@ -52,9 +52,9 @@ struct PbaOptions {
   RobustOptions robust;
   double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
   double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
-  // An observation whose target shows no trace of the host's texture (texture_loss.h) at the
-  // finest level takes no part there: weight 0, left out of the error models' fit, and removed
-  // after the PBA.
+  // With texture_loss.max_variance_ratio > 0 (off by default), an observation whose target shows
+  // no trace of the host's texture (texture_loss.h) at the finest level takes no part there:
+  // weight 0, left out of the error models' fit, and removed after the PBA.
   TextureLossOptions texture_loss;
   // A keyframe's fitted scale sigma is at most this many times the median over the problem's
   // keyframes (0: unbounded; see RunPba).

@@ -139,7 +139,8 @@ TEST(Pba, OnlyTheNewestModelIsRefittedWhenAsked) {
 
 // A plain surface covering the left half of the newest keyframe's view (a near textureless
 // occluder): the points behind it lose their texture there, and those observations are removed
-// after the adjustment; where the view is uncovered they stay. With the test off none counts.
+// after the adjustment; where the view is uncovered they stay. With the test off (the default)
+// none counts.
 TEST(Pba, ObservationsThatLostTheirTextureAreRemoved) {
   const auto run = [](const TextureLossOptions& texture_loss, World* w) {
     BuildWorld({0, 6, 12, 18}, w);
@@ -152,7 +153,9 @@ TEST(Pba, ObservationsThatLostTheirTextureAreRemoved) {
     return RunPba(&w->map, w->seq.camera, {0, 1, 2, 3}, options);
   };
   World w;
-  const PbaSummary s = run(TextureLossOptions{}, &w);
+  TextureLossOptions on;
+  on.max_variance_ratio = kTextureLossRatio;
+  const PbaSummary s = run(on, &w);
   int behind = 0, behind_removed = 0, beside = 0, beside_removed = 0;
   for (int i = 0; i < w.map.NumPoints(); ++i) {
     const Point& p = w.map.point(i);
@@ -178,10 +181,8 @@ TEST(Pba, ObservationsThatLostTheirTextureAreRemoved) {
   EXPECT_LT(beside_removed, 0.1 * beside);
   EXPECT_GE(s.observations_texture_lost, 0.9 * behind);
   EXPECT_LE(s.observations_texture_lost, s.observations_removed);
-  TextureLossOptions off;
-  off.max_variance_ratio = 0.0;
   World w_off;
-  EXPECT_EQ(run(off, &w_off).observations_texture_lost, 0);
+  EXPECT_EQ(run(TextureLossOptions{}, &w_off).observations_texture_lost, 0);  // Off by default.
 }
 
 TEST(Pba, KeepsTheNewestObservationsOutsideTheWindow) {

@@ -23,8 +23,12 @@
 
 namespace dsm {
 
+// The share measured on the room and the synthetic scenes (README: Texture loss). Off by default:
+// it removes re-observations that a relocalisation or a lap's drift leaves beside their texture.
+constexpr double kTextureLossRatio = 0.25;
+
 struct TextureLossOptions {
-  double max_variance_ratio = 0.25;  // 0: the test is off.
+  double max_variance_ratio = 0.0;   // 0: the test is off; kTextureLossRatio to use it.
   double min_host_variance = 25.0;   // Grey levels^2.
   double max_depth_ratio = 1.25;     // Target depth over host depth.
 

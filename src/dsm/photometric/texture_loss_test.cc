@@ -29,8 +29,14 @@ struct Pattern {
 };
 constexpr float kIdepth = 0.5f;
 
+TextureLossOptions On() {
+  TextureLossOptions options;
+  options.max_variance_ratio = kTextureLossRatio;
+  return options;
+}
+
 TEST(TextureLoss, TargetKeepingTheTextureIsNotLost) {
-  const TextureLossOptions options;
+  const TextureLossOptions options = On();
   EXPECT_FALSE(TextureLost(Pattern(1.0).host, Pattern(1.0).res, kIdepth, options));
   // sqrt(0.3) of the contrast keeps 30 % of the variance: above the 25 % share.
   const Pattern kept(std::sqrt(0.3));
@@ -38,14 +44,14 @@ TEST(TextureLoss, TargetKeepingTheTextureIsNotLost) {
 }
 
 TEST(TextureLoss, FlatTargetLosesTheTexture) {
-  const TextureLossOptions options;
+  const TextureLossOptions options = On();
   const Pattern flat(0.0), faint(std::sqrt(0.2));
   EXPECT_TRUE(TextureLost(flat.host, flat.res, kIdepth, options));
   EXPECT_TRUE(TextureLost(faint.host, faint.res, kIdepth, options));
 }
 
 TEST(TextureLoss, NotJudgedFromFartherAwayOnFaintHostsOrWhenOff) {
-  TextureLossOptions options;
+  TextureLossOptions options = On();
   // Seen from 1.5x the host's depth the texture is compressed into fewer pixels: not judged.
   const Pattern far(0.0, 1.5f), near(0.0, 1.2f);
   EXPECT_FALSE(TextureLost(far.host, far.res, kIdepth, options));
@@ -53,9 +59,7 @@ TEST(TextureLoss, NotJudgedFromFartherAwayOnFaintHostsOrWhenOff) {
   // A host with less variance than min_host_variance (100 here) has nothing to lose.
   options.min_host_variance = 101.0;
   EXPECT_FALSE(TextureLost(near.host, near.res, kIdepth, options));
-  options = TextureLossOptions{};
-  options.max_variance_ratio = 0.0;
-  EXPECT_FALSE(TextureLost(near.host, near.res, kIdepth, options));
+  EXPECT_FALSE(TextureLost(near.host, near.res, kIdepth, TextureLossOptions{}));  // Off by default.
 }
 
 // Real observations: a textured host seen in the same image (identity pose) keeps its texture;
@@ -80,10 +84,10 @@ TEST(TextureLoss, EvaluatedObservations) {
     ObservationResiduals res;
     in.target = &same;
     ASSERT_TRUE(EvaluateObservation(patch, in, false, &res));
-    EXPECT_FALSE(TextureLost(patch, res, in.idepth, TextureLossOptions{}));
+    EXPECT_FALSE(TextureLost(patch, res, in.idepth, On()));
     in.target = &flat;
     ASSERT_TRUE(EvaluateObservation(patch, in, false, &res));
-    EXPECT_TRUE(TextureLost(patch, res, in.idepth, TextureLossOptions{}));
+    EXPECT_TRUE(TextureLost(patch, res, in.idepth, On()));
   }
 }
 
