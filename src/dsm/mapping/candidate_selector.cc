@@ -144,16 +144,9 @@ std::vector<SelectedPixel> SelectWithStep(const Level0& image, const BlockThresh
 }  // namespace
 
 float PatternContrast(const Image<float>& value, int x, int y) {
-  std::array<float, kPatternSize> v;
-  float mean = 0.f;
-  for (int i = 0; i < kPatternSize; ++i) {
-    v[i] = value(x + kPattern[i][0], y + kPattern[i][1]);
-    mean += v[i];
-  }
-  mean /= kPatternSize;
-  float var = 0.f;
-  for (float x_i : v) var += (x_i - mean) * (x_i - mean);
-  return std::sqrt(var / kPatternSize);
+  PatternSamples v;
+  for (int i = 0; i < kPatternSize; ++i) v[i] = value(x + kPattern[i][0], y + kPattern[i][1]);
+  return std::sqrt(PatternVariance(v));
 }
 
 BlockThresholds ComputeBlockThresholds(const ImagePyramid& image, const CandidateSelectorOptions& options) {

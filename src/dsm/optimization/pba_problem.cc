@@ -153,10 +153,10 @@ int Problem::MarkOutliers(int* texture_lost) {
     Point& p = map_->point(ps.id);
     for (size_t j = 0; j < ps.obs.size(); ++j) {
       const ObsState& o = ps.obs[j];
-      int bad = kPatternSize;
-      const bool lost = ps.patch_ok && o.valid[current_] && o.texture_lost[current_];
+      int bad = kPatternSize;  // Unjudged or lost: removed.
+      const bool judged = ps.patch_ok && o.valid[current_], lost = judged && o.texture_lost[current_];
       *texture_lost += lost;
-      if (ps.patch_ok && o.valid[current_] && !lost) {
+      if (judged && !lost) {
         bad = 0;
         for (float r : o.residual[current_]) bad += models_[o.target].IsOutlier(r);
       }

@@ -143,14 +143,15 @@ class Problem {
 
   bool Evaluate(const PointState& ps, const ObsState& o, Derivatives derivatives, ObservationResiduals* res) const;
 
-  // Whether the point's residuals take part in the model fits: with pba.refit_all_models false,
-  // only points hosted by free keyframes.
   // Whether the observation's target lost the point's texture (texture_loss.h), judged at the
   // finest level only: at the coarser ones the adjustment is still pulling re-observations into
   // place (at a lap's end a pattern may rest beside its texture until they converge).
   bool TextureLostAtLevel(const PointState& ps, const ObservationResiduals& res) const {
-    return level_ == 0 && TextureLost(ps.patch, res, map_->point(ps.id).idepth, options_.texture_loss);
+    return level_ == 0 && options_.texture_loss.max_variance_ratio > 0.0 &&
+           TextureLost(ps.patch, res, map_->point(ps.id).idepth, options_.texture_loss);
   }
+  // Whether the point's residuals take part in the model fits: with pba.refit_all_models false,
+  // only points hosted by free keyframes.
   bool FitsModels(const PointState& ps) const { return options_.refit_all_models || !fixed_[ps.host]; }
 
   // Fits the error models (pba_models.h) and stores the fitted ones in their keyframes.

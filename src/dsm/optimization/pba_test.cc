@@ -162,7 +162,7 @@ TEST(Pba, ObservationsThatLostTheirTextureAreRemoved) {
     // Where the point lies in keyframe 3, at the true poses and depth.
     const Eigen::Vector3d in_host = w.seq.camera.Unproject(p.pixel.x(), p.pixel.y()) / p.idepth;
     const Eigen::Vector3d x = w.true_cam_from_world[3] * (w.true_cam_from_world[p.host].Inverse() * in_host);
-    const double u = w.seq.camera.fx * x.x() / x.z() + w.seq.camera.cx;
+    const double u = w.seq.camera.Project(x).x();
     const Observation* o = nullptr;
     for (const Observation& ob : p.observations)
       if (ob.target == 3) o = &ob;

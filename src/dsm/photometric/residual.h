@@ -33,6 +33,18 @@ constexpr float kGradientWeightC2 = 2500.f;
 
 inline float GradientWeight(float grad_sq) { return kGradientWeightC2 / (kGradientWeightC2 + grad_sq); }
 
+using PatternSamples = std::array<float, kPatternSize>;
+
+// The variance of a pattern's 8 values about their mean (summed in pattern order).
+inline float PatternVariance(const PatternSamples& v) {
+  float mean = 0.f;
+  for (float x : v) mean += x;
+  mean /= kPatternSize;
+  float var = 0.f;
+  for (float x : v) var += (x - mean) * (x - mean);
+  return var / kPatternSize;
+}
+
 // Affine brightness of a frame: a (log gain) and b (offset), with its exposure time.
 struct AffineBrightness {
   double a = 0.0;

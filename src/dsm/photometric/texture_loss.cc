@@ -16,22 +16,10 @@ bool TextureLost(const HostPatch& host, const ObservationResiduals& res, float i
                  const TextureLossOptions& options) {
   if (!(options.max_variance_ratio > 0.0)) return false;
   if (!(res.target_depth * idepth <= options.max_depth_ratio)) return false;
-  float mean_h = 0.f, mean_t = 0.f;
-  for (int k = 0; k < kPatternSize; ++k) {
-    mean_h += host.value[k];
-    mean_t += host.value[k] - res.r[k];
-  }
-  mean_h /= kPatternSize;
-  mean_t /= kPatternSize;
-  float var_h = 0.f, var_t = 0.f;
-  for (int k = 0; k < kPatternSize; ++k) {
-    const float dh = host.value[k] - mean_h, dt = host.value[k] - res.r[k] - mean_t;
-    var_h += dh * dh;
-    var_t += dt * dt;
-  }
-  var_h /= kPatternSize;
-  var_t /= kPatternSize;
-  return var_h >= options.min_host_variance && var_t < options.max_variance_ratio * var_h;
+  PatternSamples target;  // In host units: I_h - r.
+  for (int k = 0; k < kPatternSize; ++k) target[k] = host.value[k] - res.r[k];
+  const float var_h = PatternVariance(host.value);
+  return var_h >= options.min_host_variance && PatternVariance(target) < options.max_variance_ratio * var_h;
 }
 
 }  // namespace dsm
