@@ -33,6 +33,9 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["system.young_map_ba_step"] = Set(&o->young_map_ba_step);
   s["system.loop_ba_min_gap"] = Set(&o->loop_ba_min_gap);
   s["system.loop_ba_after_relocalisation"] = Set(&o->loop_ba_after_relocalisation);
+  s["system.seam_ba_count"] = Set(&o->seam_ba_count);
+  s["system.seam_ba_step"] = Set(&o->seam_ba_step);
+  s["system.seam_ba_before"] = Set(&o->seam_ba_before);
   s["system.loop_ba_max_keyframes"] = Set(&o->loop_ba_max_keyframes);
   s["system.loop_ba_max_iterations"] = Set(&o->loop_ba_max_iterations);
   s["initializer.max_corners"] = Set(&o->initializer.max_corners);

@@ -429,7 +429,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                                               {"iterations", k.young_map_ba_iterations},
                                               {"observations", k.young_map_ba_observations}};
     if (k.loop_ba_keyframes > 0)
-      per_keyframe.back()["loop_ba"] = {{"keyframes", k.loop_ba_keyframes}, {"ms", k.loop_ba_ms}};
+      per_keyframe.back()["loop_ba"] = {
+          {"keyframes", k.loop_ba_keyframes}, {"ms", k.loop_ba_ms}, {"seam", k.loop_ba_seam}};
     created.push_back(k.points_created);
   }
   summary.stats = {

@@ -44,6 +44,9 @@ void SystemOptions::Validate() const {
   if (loop_ba_min_gap < 0) throw InputError("system.loop_ba_min_gap must be non-negative (0: none)");
   if (loop_ba_after_relocalisation < 0)
     throw InputError("system.loop_ba_after_relocalisation must be non-negative (0: never)");
+  if (seam_ba_count < 0) throw InputError("system.seam_ba_count must be non-negative (0: never)");
+  if (seam_ba_step < 1) throw InputError("system.seam_ba_step must be at least 1");
+  if (seam_ba_before < 0) throw InputError("system.seam_ba_before must be non-negative");
   if (loop_ba_max_keyframes < 2) throw InputError("system.loop_ba_max_keyframes must be at least 2");
   if (loop_ba_max_iterations < 0) throw InputError("system.loop_ba_max_iterations must be non-negative (0: as pba)");
   if (tracker.levels > pyramid_levels) throw InputError("tracker.levels cannot exceed pyramid_levels");

@@ -121,6 +121,16 @@ struct SystemOptions {
   // this many keyframes (when loop_ba_min_gap is 0): the loops that close later are what make the
   // parts before and after the loss agree. A recording without losses never pays for it.
   int loop_ba_after_relocalisation = 20;
+  // The seam a relocalisation leaves (--mode dsm): the part mapped after it joins the part before
+  // through the relocalised pose and the few old points it sees, and the window, which frees the
+  // keyframes before the loss as well, bends those towards it. At every seam_ba_step-th of the
+  // first seam_ba_step * seam_ba_count keyframes after the relocalisation, the seam_ba_before
+  // keyframes before it and all after it are adjusted together, the older keyframes the part after
+  // it saw (window and covisible) held. `loop` with turned textures and 15 black frames, seeds
+  // 1-5: keyframe ATE against the clean run's README (Lost frames and relocalisation).
+  int seam_ba_count = 4;  // 0: never.
+  int seam_ba_step = 2;
+  int seam_ba_before = 8;
   int loop_ba_max_keyframes = 120;
   int loop_ba_max_iterations = 0;  // Per level; 0: as pba.max_iterations.
   InitializerOptions initializer;

@@ -75,5 +75,20 @@ TEST(SystemOptions, RejectsALoopAdjustmentWithoutABound) {
   EXPECT_NO_THROW(options.Validate());
 }
 
+TEST(SystemOptions, RejectsASeamAdjustmentOutOfRange) {
+  SystemOptions options;
+  options.seam_ba_count = -1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.seam_ba_count = 0;  // Never.
+  EXPECT_NO_THROW(options.Validate());
+  options.seam_ba_step = 0;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.seam_ba_step = 1;
+  options.seam_ba_before = -1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.seam_ba_before = 0;
+  EXPECT_NO_THROW(options.Validate());
+}
+
 }  // namespace
 }  // namespace dsm

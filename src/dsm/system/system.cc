@@ -315,6 +315,7 @@ void System::RunJob(const MappingJob& job) {
   if (job.relocalisations > relocalisations_mapped_) {
     relocalisations_mapped_ = job.relocalisations;
     loop_ba_pending_ = true;
+    seam_first_ = map_.NumKeyframes();
   }
   if (job.keyframe < 0) return;
   // Tracking resumed against an older keyframe (relocalisation): it rejoins the temporal window,

@@ -103,6 +103,7 @@ struct SystemStats {
     int young_map_ba_iterations = 0, young_map_ba_observations = 0;
     int loop_ba_keyframes = 0;  // Keyframes the loop bundle adjustment after this one freed (0: none).
     double loop_ba_ms = 0.0;
+    bool loop_ba_seam = false;  // That adjustment was a relocalisation's seam (SystemOptions::seam_ba_count).
     int observations_removed = 0;  // Marked outliers after its bundle adjustment.
     int observations_texture_lost = 0;  // Of those: the texture vanished in the target (texture_loss.h).
     int points_culled = 0;         // Removed after its bundle adjustment.
@@ -367,6 +368,9 @@ class System {
   // The loop bundle adjustment (SystemOptions::loop_ba_min_gap, loop_ba_after_relocalisation)
   // after keyframe `newest` is published (FinishKeyframe), when due; true when it ran.
   bool AdjustLoop(int newest);
+  // The seam adjustment after a relocalisation (SystemOptions::seam_ba_count) after keyframe
+  // `newest` is published, when due; true when it ran.
+  bool AdjustSeam(int newest);
   // The young map's bundle adjustment (SystemOptions::young_map_ba_first) after the newest
   // keyframe is published, when due; true when it ran.
   bool AdjustYoungMap();
@@ -396,6 +400,7 @@ class System {
   std::vector<int> covisible_; // Covisible part of the window (DSM mode).
   int last_loop_ba_ = -1;       // Keyframe after which the last loop bundle adjustment ran.
   int relocalisations_mapped_ = 0;  // The tracking side's count as the last job brought it.
+  int seam_first_ = -1;             // The first keyframe mapped after the last relocalisation (-1: none).
   bool loop_ba_pending_ = false;    // A relocalisation since the last loop bundle adjustment.
   std::vector<Eigen::Vector2f> old_pixels_;  // Newest-keyframe pixels of old, unselected map points.
   std::map<int, std::vector<Candidate>> candidates_;

@@ -192,10 +192,48 @@ bool System::AdjustLoop(int newest) {
   a.log = stats_.per_keyframe.size() - 1;
   a.stat = stats_.loop_ba_ms.size();
   stats_.per_keyframe.back().loop_ba_keyframes = static_cast<int>(keyframes.size() - held.size());
+  stats_.per_keyframe.back().loop_ba_seam = false;  // Logged as the loop's when both ran.
   stats_.loop_ba_ms.push_back(0.0);
   a.keyframes = std::move(keyframes);
   a.held = std::move(held);
   last_loop_ba_ = newest;
+  Adjust(std::move(a));
+  return true;
+}
+
+bool System::AdjustSeam(int newest) {
+  if (options_.mode != MapMode::kFull || seam_first_ < 0 || newest < seam_first_) return false;
+  const int after = newest - seam_first_ + 1;  // Keyframes mapped since the relocalisation.
+  if (after > options_.seam_ba_step * options_.seam_ba_count) {
+    seam_first_ = -1;
+    return false;
+  }
+  if (after % options_.seam_ba_step != 0) return false;
+  // Free: the keyframes from seam_ba_before before the relocalisation on; held: the older ones
+  // whose points they observe, so that those points tie them to the old map (the keyframes that
+  // observe the free keyframes' points enter fixed, as in every adjustment).
+  const int first = std::max(0, seam_first_ - options_.seam_ba_before);
+  Adjustment a;
+  for (int h = 0; h < first; ++h) {
+    const std::vector<int>& hosted = map_.keyframe(h).points;
+    const bool ties = std::any_of(hosted.begin(), hosted.end(), [&](int pid) {
+      const Point& p = map_.point(pid);
+      if (p.removed) return false;
+      for (const Observation& o : p.observations)
+        if (!o.outlier && o.target >= first) return true;
+      return false;
+    });
+    if (ties) a.held.push_back(h);
+  }
+  a.keyframes = a.held;
+  for (int k = first; k <= newest; ++k) a.keyframes.push_back(k);
+  a.options = options_.pba;
+  a.log = stats_.per_keyframe.size() - 1;
+  a.stat = stats_.loop_ba_ms.size();
+  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  log.loop_ba_keyframes = newest + 1 - first;
+  log.loop_ba_seam = true;
+  stats_.loop_ba_ms.push_back(0.0);
   Adjust(std::move(a));
   return true;
 }
@@ -208,6 +246,7 @@ void System::FinishKeyframe(int kf) {
   // (UpdateReference keeps the frames' poses relative to it).
   bool adjusted = RunParked();
   if (AdjustYoungMap()) adjusted = true;
+  if (AdjustSeam(kf)) adjusted = true;
   if (AdjustLoop(kf)) adjusted = true;
   if (adjusted) PublishTrackingReference();
   if (options_.keyframe_features && mapping_thread_) {
