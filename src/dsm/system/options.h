@@ -125,9 +125,9 @@ struct SystemOptions {
   // through the relocalised pose and the few old points it sees, and the window, which frees the
   // keyframes before the loss as well, bends those towards it. At every seam_ba_step-th of the
   // first seam_ba_step * seam_ba_count keyframes after the relocalisation, the seam_ba_before
-  // keyframes before it and all after it are adjusted together, the older keyframes the part after
-  // it saw (window and covisible) held. `loop` with turned textures and 15 black frames, seeds
-  // 1-5: keyframe ATE against the clean run's README (Lost frames and relocalisation).
+  // keyframes before it and all after it are adjusted together, the older keyframes whose points
+  // these observe held; not in a map of fewer than 2 * seam_ba_before keyframes at the
+  // loss, which has too little before them to hold it (README, Lost frames and relocalisation).
   int seam_ba_count = 4;  // 0: never.
   int seam_ba_step = 2;
   int seam_ba_before = 8;
