@@ -24,7 +24,7 @@
 namespace dsm {
 
 // The share measured on the room and the synthetic scenes (README: Texture loss). Off by default:
-// it removes re-observations that a relocalisation or a lap's drift leaves beside their texture.
+// DSM-SW on the room gets worse with it, and DSM's median over five room starts no better.
 constexpr double kTextureLossRatio = 0.25;
 
 struct TextureLossOptions {

@@ -371,6 +371,9 @@ class System {
   // The seam adjustment after a relocalisation (SystemOptions::seam_ba_count) after keyframe
   // `newest` is published, when due; true when it ran.
   bool AdjustSeam(int newest);
+  // A loop or seam adjustment of `keyframes` (`held` among them stay fixed), logged with the newest
+  // keyframe's entry and in stats_.loop_ba_ms.
+  void AdjustAfterNewest(std::vector<int> keyframes, std::vector<int> held, const PbaOptions& pba, bool seam);
   // The young map's bundle adjustment (SystemOptions::young_map_ba_first) after the newest
   // keyframe is published, when due; true when it ran.
   bool AdjustYoungMap();

@@ -186,19 +186,25 @@ bool System::AdjustLoop(int newest) {
   std::vector<int> keyframes = covisible_, held = covisible_;
   for (int k = first; k <= newest; ++k)
     if (std::find(covisible_.begin(), covisible_.end(), k) == covisible_.end()) keyframes.push_back(k);
+  PbaOptions pba = options_.pba;
+  if (options_.loop_ba_max_iterations > 0) pba.max_iterations = options_.loop_ba_max_iterations;
+  last_loop_ba_ = newest;
+  AdjustAfterNewest(std::move(keyframes), std::move(held), pba, /*seam=*/false);
+  return true;
+}
+
+void System::AdjustAfterNewest(std::vector<int> keyframes, std::vector<int> held, const PbaOptions& pba, bool seam) {
   Adjustment a;
-  a.options = options_.pba;
-  if (options_.loop_ba_max_iterations > 0) a.options.max_iterations = options_.loop_ba_max_iterations;
+  a.options = pba;
   a.log = stats_.per_keyframe.size() - 1;
   a.stat = stats_.loop_ba_ms.size();
-  stats_.per_keyframe.back().loop_ba_keyframes = static_cast<int>(keyframes.size() - held.size());
-  stats_.per_keyframe.back().loop_ba_seam = false;  // Logged as the loop's when both ran.
+  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  log.loop_ba_keyframes = static_cast<int>(keyframes.size() - held.size());
+  log.loop_ba_seam = seam;  // When both ran: the last one's.
   stats_.loop_ba_ms.push_back(0.0);
   a.keyframes = std::move(keyframes);
   a.held = std::move(held);
-  last_loop_ba_ = newest;
   Adjust(std::move(a));
-  return true;
 }
 
 bool System::AdjustSeam(int newest) {
@@ -217,7 +223,7 @@ bool System::AdjustSeam(int newest) {
   // keyframes 6 and 9: keyframe ATE 0.50 -> 0.78 mm); the young map's adjustments cover it.
   const int first = seam_first_ - options_.seam_ba_before;
   if (first < options_.seam_ba_before) return false;
-  Adjustment a;
+  std::vector<int> held;
   for (int h = 0; h < first; ++h) {
     const std::vector<int>& hosted = map_.keyframe(h).points;
     const bool ties = std::any_of(hosted.begin(), hosted.end(), [&](int pid) {
@@ -227,18 +233,11 @@ bool System::AdjustSeam(int newest) {
         if (!o.outlier && o.target >= first) return true;
       return false;
     });
-    if (ties) a.held.push_back(h);
+    if (ties) held.push_back(h);
   }
-  a.keyframes = a.held;
-  for (int k = first; k <= newest; ++k) a.keyframes.push_back(k);
-  a.options = options_.pba;
-  a.log = stats_.per_keyframe.size() - 1;
-  a.stat = stats_.loop_ba_ms.size();
-  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
-  log.loop_ba_keyframes = newest + 1 - first;
-  log.loop_ba_seam = true;
-  stats_.loop_ba_ms.push_back(0.0);
-  Adjust(std::move(a));
+  std::vector<int> keyframes = held;
+  for (int k = first; k <= newest; ++k) keyframes.push_back(k);
+  AdjustAfterNewest(std::move(keyframes), std::move(held), options_.pba, /*seam=*/true);
   return true;
 }
 
