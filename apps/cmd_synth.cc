@@ -24,6 +24,9 @@ Command AddSynth(CLI::App& app) {
   app.add_flag("--turned-textures", o->turned_textures,
                "Textures that do not repeat along the surfaces (each reads its noise tile along turned axes; "
                "by default they repeat every two of their coarsest wavelengths, e.g. every 2 m down the corridor)");
+  app.add_flag("--plain-pillars", o->plain_pillars,
+               "Floor-to-ceiling pillars (orbit's, the corridor's) nearly without texture, like painted plaster: "
+               "points only along their silhouettes");
   app.add_option("--defects", o->defects,
                  "Bad frames to inject: KIND:FIRST[-LAST],... with KIND black, saturated, noise, cover (a hand "
                  "over the lens), corrupt, truncated or empty (damaged files), e.g. black:200-214,corrupt:350");

@@ -13,10 +13,16 @@
 #include "dsm/geometry/camera.h"
 #include "dsm/map/map.h"
 #include "dsm/photometric/robust.h"
+#include "dsm/photometric/texture_loss.h"
 
 namespace dsm {
 
 bool LooksConsistent(const Map& map, const PinholeCamera& camera, const Point& point, int target,
                      const ErrorModel& model, double max_bad_ratio);
+
+// Has the point's texture vanished in the keyframe at the current poses (TextureLost at level 0)?
+// False when the pattern leaves the image or the test is not made (texture_loss.h).
+bool TextureGone(const Map& map, const PinholeCamera& camera, const Point& point, int target,
+                 const TextureLossOptions& options);
 
 }  // namespace dsm

@@ -38,6 +38,33 @@ TEST(LooksConsistent, TruePosesAndDepthsMatchAndAnotherImageDoesNot) {
   EXPECT_LT(ConsistentShare(w, 2), 0.3);
 }
 
+TEST(TextureGone, APlainSurfaceInFrontTakesTheTextureAway) {
+  testing::World w;
+  testing::BuildWorld({0, 4, 8}, &w);
+  TextureLossOptions options;
+  options.max_variance_ratio = kTextureLossRatio;
+  const auto gone_share = [&](int target) {
+    int n = 0, gone = 0;
+    for (int i = 0; i < w.map.NumPoints(); ++i) {
+      const Point& p = w.map.point(i);
+      if (p.host != 0 || PatternVariance(p.patch.value) < options.min_host_variance) continue;
+      ++n;
+      gone += TextureGone(w.map, w.seq.camera, p, target, options);
+    }
+    return static_cast<double>(gone) / n;
+  };
+  EXPECT_LT(gone_share(2), 0.1);
+  // Keyframe 2 now shows a plain grey surface with a little noise everywhere.
+  Keyframe& kf = w.map.keyframe(2);
+  Image<float> plain(kf.Pyramid().width(0), kf.Pyramid().height(0));
+  for (int y = 0; y < plain.height(); ++y)
+    for (int x = 0; x < plain.width(); ++x) plain(x, y) = 120.f + static_cast<float>((x * 7 + y * 13) % 5);
+  kf.pyramid = std::make_shared<const ImagePyramid>(plain, kf.Pyramid().levels());
+  EXPECT_GT(gone_share(2), 0.9);
+  options.max_variance_ratio = 0.0;  // The test is off.
+  EXPECT_EQ(gone_share(2), 0.0);
+}
+
 TEST(LooksConsistent, PatternLeavingTheImageIsNotConsistent) {
   testing::World w;
   testing::BuildWorld({0, 4}, &w);

@@ -27,6 +27,37 @@ TEST(OcclusionGrid, TwoNearerNeighboursHideAPoint) {
   EXPECT_FALSE(grid.IsOccluded(Eigen::Vector2f(700, 10), 0.1f));
 }
 
+TEST(OcclusionGrid, APlainPillarHidesTheWallBetweenItsEdges) {
+  // A plain pillar (1 m) spans x 300 .. 420 over the whole height; it holds points only along its
+  // two edges. The wall (4 m) has points everywhere else.
+  OcclusionOptions options;
+  options.span_px = kBetweenSpanPx;  // 96
+  OcclusionGrid grid(640, 480, options);
+  for (int y = 0; y < 480; y += 10)
+    for (int x = 0; x < 640; x += 10)
+      if (x < 300 || x > 420) grid.Add(Eigen::Vector2f(x, y), 0.25f);
+  for (int y = 0; y < 480; y += 6) {
+    grid.Add(Eigen::Vector2f(301, y), 1.f);
+    grid.Add(Eigen::Vector2f(419, y), 1.f);
+  }
+  const Eigen::Vector2f middle(360, 200);
+  EXPECT_TRUE(grid.IsBetween(middle, 0.25f));    // The wall behind the pillar's middle.
+  EXPECT_FALSE(grid.IsOccluded(middle, 0.25f));  // Its edges are too far for the 3 x 3 cells alone.
+  EXPECT_FALSE(grid.IsBetween(middle, 1.f));     // The pillar itself.
+  EXPECT_FALSE(grid.IsBetween(Eigen::Vector2f(200, 200), 0.25f));  // Wall beside it: one side only.
+  EXPECT_FALSE(grid.IsBetween(Eigen::Vector2f(520, 200), 0.25f));
+  // A pillar wider than twice the span leaves its middle; span 0 (the default) turns the test off.
+  OcclusionGrid wide(640, 480, options), none(640, 480, {});
+  for (int y = 0; y < 480; y += 6) {
+    wide.Add(Eigen::Vector2f(101, y), 1.f);
+    wide.Add(Eigen::Vector2f(539, y), 1.f);
+    none.Add(Eigen::Vector2f(301, y), 1.f);
+    none.Add(Eigen::Vector2f(419, y), 1.f);
+  }
+  EXPECT_FALSE(wide.IsBetween(Eigen::Vector2f(320, 200), 0.25f));
+  EXPECT_FALSE(none.IsBetween(middle, 0.25f));
+}
+
 TEST(OcclusionOptions, BadValuesAreRefused) {
   OcclusionOptions o;
   o.depth_ratio = 1.f;
@@ -36,6 +67,9 @@ TEST(OcclusionOptions, BadValuesAreRefused) {
   EXPECT_THROW(o.Validate(), InputError);
   o = {};
   o.cell_px = 0;
+  EXPECT_THROW(o.Validate(), InputError);
+  o = {};
+  o.span_px = -1;
   EXPECT_THROW(o.Validate(), InputError);
   EXPECT_NO_THROW(OcclusionOptions{}.Validate());
 }

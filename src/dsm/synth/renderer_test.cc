@@ -110,6 +110,31 @@ TEST(Renderer, DepthOfAKnownWall) {
   EXPECT_GT(albedo(31, 23), 0.f);
 }
 
+TEST(Scene, PlainPillarsKeepATenthOfTheirContrast) {
+  // A pillar from the floor to 3 m and a stool of 0.5 m; a camera sees each from 1 m.
+  Scene scene;
+  const Texture texture{7, 0.5f, 0.3f, 0.3f};
+  scene.AddCylinder({{1.f, 0.f}, 0.2f, 0.f, 3.f, texture});
+  scene.AddCylinder({{-1.f, 0.f}, 0.2f, 0.f, 0.5f, texture});
+  const auto spread = [&](const Eigen::Vector3f& origin, const Eigen::Vector3f& centre) {
+    float lo = 1.f, hi = 0.f;
+    for (int i = -10; i <= 10; ++i) {
+      Hit hit;
+      const Eigen::Vector3f target = centre + Eigen::Vector3f(0.f, 0.015f * i, 0.f);
+      EXPECT_TRUE(scene.Intersect(origin, (target - origin).normalized(), &hit));
+      const float albedo = EvaluateTexture(*hit.texture, hit.u, hit.v, 1e-3f);
+      lo = std::min(lo, albedo), hi = std::max(hi, albedo);
+    }
+    return hi - lo;
+  };
+  const Eigen::Vector3f eye(0.f, 0.f, 0.25f);
+  const float pillar = spread(eye, {0.8f, 0.f, 0.25f}), stool = spread(eye, {-0.8f, 0.f, 0.25f});
+  scene.PlainPillars();
+  EXPECT_NEAR(spread(eye, {0.8f, 0.f, 0.25f}), 0.1f * pillar, 0.02f * pillar);
+  EXPECT_FLOAT_EQ(spread(eye, {-0.8f, 0.f, 0.25f}), stool);  // Not a pillar.
+  EXPECT_GT(pillar, 0.05f);
+}
+
 TEST(Sequences, DeterministicPerSeed) {
   SynthOptions options;
   options.scene = "shake";

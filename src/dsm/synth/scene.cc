@@ -33,6 +33,14 @@ void Scene::TurnTextures() {
   for (Cylinder& cylinder : cylinders_) cylinder.texture.turned = true;
 }
 
+void Scene::PlainPillars(float min_height_m) {
+  for (Cylinder& cylinder : cylinders_)
+    if (cylinder.z_min <= 0.f && cylinder.z_max >= min_height_m) {
+      cylinder.texture.contrast *= 0.1f;
+      cylinder.texture.line_spacing_m = 0.f;
+    }
+}
+
 Scene::Subset Scene::All() const {
   Subset all;
   for (size_t i = 0; i < boxes_.size(); ++i) all.boxes.push_back(static_cast<int>(i));

@@ -42,6 +42,10 @@ class Scene {
   void AddCylinder(const Cylinder& cylinder);
   // Every texture of the scene read along turned axes (Texture::turned).
   void TurnTextures();
+  // Every pillar (a cylinder from the floor up to at least `min_height_m`) plain: its texture keeps
+  // a tenth of its contrast, like painted plaster, so points can be selected only along its
+  // silhouette (against what is behind it).
+  void PlainPillars(float min_height_m = 2.f);
 
   // The primitives a group of rays may hit: indices into the boxes and the cylinders.
   struct Subset {

@@ -156,6 +156,7 @@ SynthSequence MakeSequence(const SynthOptions& options) {
     FurnishedRoom(rng, &seq.scene);
   }
   if (options.turned_textures) seq.scene.TurnTextures();
+  if (options.plain_pillars) seq.scene.PlainPillars();
   const Jitter jitter(rng);
   const Jitter look_jitter(rng);
 

@@ -36,6 +36,7 @@ struct SynthOptions {
   bool depth = false;        // Also write per-frame depth maps.
   std::string defects;       // Bad frames to inject (defects.h), e.g. "black:20-24,corrupt:30".
   bool turned_textures = false;  // Textures that do not repeat along the surfaces (Texture::turned).
+  bool plain_pillars = false;    // Floor-to-ceiling cylinders without texture (Scene::PlainPillars).
 
   void Validate() const;  // Throws InputError naming the option.
 };

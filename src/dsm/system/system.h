@@ -394,6 +394,10 @@ class System {
   // Covisible keyframes and their points' re-observations in `newest`, except hidden ones.
   void SelectCovisible(int newest, OcclusionGrid* occlusion);
   void AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const;
+  // Is point `p`, projected to `px` with inverse depth `rho` in keyframe `kf`, hidden there by a
+  // nearer part of the map: nearer points around it, or between nearer points where its texture
+  // is gone (a plain near surface; occlusion.h)?
+  bool HiddenIn(const Point& p, int kf, const Eigen::Vector2f& px, float rho, const OcclusionGrid& grid) const;
 
   PinholeCamera camera_;
   SystemOptions options_;

@@ -79,7 +79,7 @@ void System::MapNewKeyframe(int kf) {
       Point& p = map_.point(pid);
       Eigen::Vector2f px;
       float rho;
-      if (!p.removed && ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho) && !occlusion.IsOccluded(px, rho))
+      if (!p.removed && ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho) && !HiddenIn(p, kf, px, rho, occlusion))
         p.observations.push_back({kf, false});
     }
   window_.push_back(kf);
@@ -271,6 +271,13 @@ void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, O
     }
 }
 
+bool System::HiddenIn(const Point& p, int kf, const Eigen::Vector2f& px, float rho, const OcclusionGrid& grid) const {
+  if (grid.IsOccluded(px, rho)) return true;
+  TextureLossOptions texture;
+  texture.max_variance_ratio = kTextureLossRatio;
+  return grid.IsBetween(px, rho) && TextureGone(map_, camera_, p, kf, texture);
+}
+
 void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
   covisible_.clear();
   if (options_.mode != MapMode::kFull) return;
@@ -292,7 +299,8 @@ void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
       Eigen::Vector2f px;
       float rho;
       if (p.removed || p.FindObservation(newest) != nullptr || !ProjectPoint(map_, camera_, p, newest, 4.f, &px, &rho) ||
-          ViewAngleDeg(map_, camera_, p, newest) > options_.window.max_view_angle_deg || occlusion->IsOccluded(px, rho))
+          ViewAngleDeg(map_, camera_, p, newest) > options_.window.max_view_angle_deg ||
+          HiddenIn(p, newest, px, rho, *occlusion))
         continue;
       p.observations.push_back({newest, false});
       ++log.reobservations;
