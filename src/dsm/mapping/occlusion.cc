@@ -11,7 +11,9 @@ void OcclusionOptions::Validate() const {
   if (cell_px < 1) throw InputError("occlusion.cell_px must be positive");
   if (!(depth_ratio > 1.f)) throw InputError("occlusion.depth_ratio must be above 1");
   if (min_occluders < 1) throw InputError("occlusion.min_occluders must be positive");
-  if (span_px < 0) throw InputError("occlusion.span_px must not be negative");
+  if (span_px < 1) throw InputError("occlusion.span_px must be positive");
+  if (texture_check != "none" && texture_check != "between" && texture_check != "all")
+    throw InputError("occlusion.texture_check must be none, between or all (got '" + texture_check + "')");
 }
 
 OcclusionGrid::OcclusionGrid(int width, int height, const OcclusionOptions& options)
@@ -45,7 +47,7 @@ bool OcclusionGrid::IsOccluded(const Eigen::Vector2f& pixel, float idepth) const
 
 bool OcclusionGrid::IsBetween(const Eigen::Vector2f& pixel, float idepth) const {
   const int c = Cell(pixel.x(), pixel.y());
-  if (c < 0 || !options_.enabled || options_.span_px <= 0) return false;
+  if (c < 0 || !options_.enabled) return false;
   const int cx = c % cols_, cy = c / cols_, m = options_.min_occluders;
   const float nearer = options_.depth_ratio * idepth;
   return (CountAlong(cx, cy, -1, 0, nearer, m) >= m && CountAlong(cx, cy, 1, 0, nearer, m) >= m) ||

@@ -14,28 +14,28 @@
 // where n_left counts the points nearer than p by `depth_ratio` in the cells 1 .. span_px / cell_px
 // to the left of p's cell, in p's row of cells and the rows above and below (likewise the others).
 // That is no proof: looking down a corridor or into a room's corner, the far points lie between
-// nearer walls and are seen. The caller asks the image too (the point's texture is gone there).
+// nearer walls and are seen. `texture_check` says when the image is asked instead: a point whose
+// texture is gone in the new keyframe (texture_loss.h, at the tracked pose) is hidden there
+//   "none": never (the default), "between": when it is also between nearer points, "all": always.
 // Observations created for hidden points would only feed the error model with occlusion
 // residuals (the PBA rejects them later, but a keyframe whose view is mostly covered by a near
 // object fits its inlier threshold to them).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 namespace dsm {
 
-constexpr int kBetweenSpanPx = 96;
-
 struct OcclusionOptions {
   bool enabled = true;  // false: every point that projects into the keyframe is observed there.
   int cell_px = 8;
   float depth_ratio = 1.3f;
   int min_occluders = 2;
-  // IsBetween's reach on each side; 0 (the default): IsBetween is always false. kBetweenSpanPx
-  // is the value measured (README: Occlusions, plain near surfaces).
-  int span_px = 0;
+  int span_px = 96;  // IsBetween's reach on each side.
+  std::string texture_check = "none";  // none | between | all (see above; README: Plain near surfaces).
   void Validate() const;
 };
 

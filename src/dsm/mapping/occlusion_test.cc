@@ -30,9 +30,7 @@ TEST(OcclusionGrid, TwoNearerNeighboursHideAPoint) {
 TEST(OcclusionGrid, APlainPillarHidesTheWallBetweenItsEdges) {
   // A plain pillar (1 m) spans x 300 .. 420 over the whole height; it holds points only along its
   // two edges. The wall (4 m) has points everywhere else.
-  OcclusionOptions options;
-  options.span_px = kBetweenSpanPx;  // 96
-  OcclusionGrid grid(640, 480, options);
+  OcclusionGrid grid(640, 480, {});  // span_px 96
   for (int y = 0; y < 480; y += 10)
     for (int x = 0; x < 640; x += 10)
       if (x < 300 || x > 420) grid.Add(Eigen::Vector2f(x, y), 0.25f);
@@ -46,16 +44,13 @@ TEST(OcclusionGrid, APlainPillarHidesTheWallBetweenItsEdges) {
   EXPECT_FALSE(grid.IsBetween(middle, 1.f));     // The pillar itself.
   EXPECT_FALSE(grid.IsBetween(Eigen::Vector2f(200, 200), 0.25f));  // Wall beside it: one side only.
   EXPECT_FALSE(grid.IsBetween(Eigen::Vector2f(520, 200), 0.25f));
-  // A pillar wider than twice the span leaves its middle; span 0 (the default) turns the test off.
-  OcclusionGrid wide(640, 480, options), none(640, 480, {});
+  // A pillar wider than twice the span leaves its middle.
+  OcclusionGrid wide(640, 480, {});
   for (int y = 0; y < 480; y += 6) {
     wide.Add(Eigen::Vector2f(101, y), 1.f);
     wide.Add(Eigen::Vector2f(539, y), 1.f);
-    none.Add(Eigen::Vector2f(301, y), 1.f);
-    none.Add(Eigen::Vector2f(419, y), 1.f);
   }
   EXPECT_FALSE(wide.IsBetween(Eigen::Vector2f(320, 200), 0.25f));
-  EXPECT_FALSE(none.IsBetween(middle, 0.25f));
 }
 
 TEST(OcclusionOptions, BadValuesAreRefused) {
@@ -69,8 +64,15 @@ TEST(OcclusionOptions, BadValuesAreRefused) {
   o.cell_px = 0;
   EXPECT_THROW(o.Validate(), InputError);
   o = {};
-  o.span_px = -1;
+  o.span_px = 0;
   EXPECT_THROW(o.Validate(), InputError);
+  o = {};
+  o.texture_check = "sometimes";
+  EXPECT_THROW(o.Validate(), InputError);
+  for (const char* check : {"none", "between", "all"}) {
+    o.texture_check = check;
+    EXPECT_NO_THROW(o.Validate());
+  }
   EXPECT_NO_THROW(OcclusionOptions{}.Validate());
 }
 

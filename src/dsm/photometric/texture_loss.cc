@@ -15,7 +15,8 @@ void TextureLossOptions::Validate() const {
 bool TextureLost(const HostPatch& host, const ObservationResiduals& res, float idepth,
                  const TextureLossOptions& options) {
   if (!(options.max_variance_ratio > 0.0)) return false;
-  if (!(res.target_depth * idepth <= options.max_depth_ratio)) return false;
+  const double ratio = res.target_depth * idepth;
+  if (!(ratio <= options.max_depth_ratio && ratio * options.max_depth_ratio >= 1.0)) return false;
   PatternSamples target;  // In host units: I_h - r.
   for (int k = 0; k < kPatternSize; ++k) target[k] = host.value[k] - res.r[k];
   const float var_h = PatternVariance(host.value);

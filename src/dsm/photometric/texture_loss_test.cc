@@ -50,12 +50,15 @@ TEST(TextureLoss, FlatTargetLosesTheTexture) {
   EXPECT_TRUE(TextureLost(faint.host, faint.res, kIdepth, options));
 }
 
-TEST(TextureLoss, NotJudgedFromFartherAwayOnFaintHostsOrWhenOff) {
+TEST(TextureLoss, NotJudgedFromFartherOrMuchNearerOnFaintHostsOrWhenOff) {
   TextureLossOptions options = On();
-  // Seen from 1.5x the host's depth the texture is compressed into fewer pixels: not judged.
-  const Pattern far(0.0, 1.5f), near(0.0, 1.2f);
+  // Seen from 1.5x the host's depth the texture is compressed into fewer pixels, from 0.7x the
+  // samples cover less of it: not judged. Within 1.25x either way it is.
+  const Pattern far(0.0, 1.5f), near(0.0, 1.2f), closer(0.0, 0.85f), much_closer(0.0, 0.7f);
   EXPECT_FALSE(TextureLost(far.host, far.res, kIdepth, options));
   EXPECT_TRUE(TextureLost(near.host, near.res, kIdepth, options));
+  EXPECT_TRUE(TextureLost(closer.host, closer.res, kIdepth, options));
+  EXPECT_FALSE(TextureLost(much_closer.host, much_closer.res, kIdepth, options));
   // A host with less variance than min_host_variance (100 here) has nothing to lose.
   options.min_host_variance = 101.0;
   EXPECT_FALSE(TextureLost(near.host, near.res, kIdepth, options));

@@ -273,9 +273,11 @@ void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, O
 
 bool System::HiddenIn(const Point& p, int kf, const Eigen::Vector2f& px, float rho, const OcclusionGrid& grid) const {
   if (grid.IsOccluded(px, rho)) return true;
+  if (options_.occlusion.texture_check == "none") return false;
   TextureLossOptions texture;
   texture.max_variance_ratio = kTextureLossRatio;
-  return grid.IsBetween(px, rho) && TextureGone(map_, camera_, p, kf, texture);
+  const std::string& check = options_.occlusion.texture_check;
+  return (check == "all" || (check == "between" && grid.IsBetween(px, rho))) && TextureGone(map_, camera_, p, kf, texture);
 }
 
 void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
