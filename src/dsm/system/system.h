@@ -395,8 +395,8 @@ class System {
   void SelectCovisible(int newest, OcclusionGrid* occlusion);
   void AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const;
   // Is point `p`, projected to `px` with inverse depth `rho` in keyframe `kf`, hidden there by a
-  // nearer part of the map: nearer points around it, or between nearer points where its texture
-  // is gone (a plain near surface; occlusion.h)?
+  // nearer part of the map: nearer points around it, or (occlusion.texture_check) its texture gone
+  // there, anywhere or between nearer points (a plain near surface; occlusion.h)?
   bool HiddenIn(const Point& p, int kf, const Eigen::Vector2f& px, float rho, const OcclusionGrid& grid) const;
 
   PinholeCamera camera_;

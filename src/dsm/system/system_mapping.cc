@@ -273,11 +273,13 @@ void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, O
 
 bool System::HiddenIn(const Point& p, int kf, const Eigen::Vector2f& px, float rho, const OcclusionGrid& grid) const {
   if (grid.IsOccluded(px, rho)) return true;
-  if (options_.occlusion.texture_check == "none") return false;
-  TextureLossOptions texture;
-  texture.max_variance_ratio = kTextureLossRatio;
   const std::string& check = options_.occlusion.texture_check;
-  return (check == "all" || (check == "between" && grid.IsBetween(px, rho))) && TextureGone(map_, camera_, p, kf, texture);
+  if (check == "none" || (check == "between" && !grid.IsBetween(px, rho))) return false;
+  // The bundle adjustment's texture-loss test (its host-variance floor and depth bound), at the
+  // measured share whether or not the adjustment uses it.
+  TextureLossOptions texture = options_.pba.texture_loss;
+  texture.max_variance_ratio = kTextureLossRatio;
+  return TextureGone(map_, camera_, p, kf, texture);
 }
 
 void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
