@@ -16,6 +16,7 @@ Command AddRun(CLI::App& app) {
     double progress_interval = 10.0;
     double latency_target_ms = std::numeric_limits<double>::infinity();
     int port = 8080;
+    double view_wait = 0.0;
     bool view = false;
     int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
     bool quiet = false, no_map = false, no_report = false, global_ba = false, truth_ba = false, sequential = false,
@@ -56,6 +57,9 @@ Command AddRun(CLI::App& app) {
                "Live viewer: serve the report page on localhost while the run goes on (map, camera and "
                "statistics pushed over a WebSocket); its address is printed");
   app.add_option("--port", a->port, "Port of --view (default 8080; 0: any free port)");
+  app.add_option("--view-wait", a->view_wait,
+                 "--view: before the first frame, wait up to this many seconds for a browser to connect, so "
+                 "that it sees the whole run (default 0: no wait)");
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
   app.add_flag("--truth-ba", a->truth_ba,
                "Diagnostic, with ground truth: after the outputs are written, bundle-adjust the whole map again "
@@ -92,6 +96,9 @@ Command AddRun(CLI::App& app) {
     options.write_report = !a->no_report;
     if (a->port < 0 || a->port > 65535) throw InputError("--port must be 0..65535");
     options.view_port = a->view ? a->port : -1;
+    if (!(a->view_wait >= 0.0) || a->view_wait > 86400.0) throw InputError("--view-wait must be 0..86400 seconds");
+    if (a->view_wait > 0.0 && !a->view) throw InputError("--view-wait needs --view");
+    options.view_wait_s = a->view_wait;
     options.debug_dir = a->debug;
     options.workers = a->workers;
     if (a->sequential && a->realtime) throw InputError("--sequential and --realtime exclude each other");

@@ -350,6 +350,8 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
        "pba.texture_loss_ratio"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 500 --out " + (dir / "o").string(), "--start"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gt-frame imu", "--gt-frame"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --view-wait 5", "--view-wait needs --view"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --view --view-wait -1", "--view-wait must be"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 339 --out " + (dir / "o").string(),
        "at least two frames"},
       {"synth --scene loop --out " + (dir / "x").string() + " --defects fog:3", "--defects: unknown kind 'fog'"},

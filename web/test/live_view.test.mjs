@@ -16,8 +16,10 @@ execFileSync(dsm, ['synth', '--scene', 'loop', '--frames', '160', '--width', '32
 const browser = await launch();
 // Sequential: every keyframe mapped before the next frame, so the map grows frame by frame however
 // loaded the machine is (a realtime run on a busy machine drops most frames).
+// --view-wait: the first frame waits for the page, which so sees the whole run (a page that took
+// most of the run to load on a loaded machine saw only its last two point counts).
 const run = spawn(dsm, ['run', join(work, 'scene'), '--sequential', '--quiet', '--view', '--port', '0',
-  '--out', join(work, 'run')], { stdio: ['ignore', 'pipe', 'inherit'] });
+  '--view-wait', '300', '--out', join(work, 'run')], { stdio: ['ignore', 'pipe', 'inherit'] });
 const exited = new Promise((resolve) => run.on('exit', (code) => resolve(code)));
 let output = '';
 const url = await new Promise((resolve, reject) => {

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/run/live_view.h"
 
+#include <chrono>
+#include <thread>
+
 #include "dsm/report/report.h"
 
 namespace dsm {
@@ -13,6 +16,15 @@ LiveView::LiveView(int port, const Dataset& dataset, Context context) : dataset_
                                    {"mode", context_.mode}, {"pace", context_.pace}, {"state", "starting"}}},
                       {"maps", json::array()}, {"errors", json::array()}, {"lost_episodes", json::array()}};
   server_ = std::make_unique<LiveServer>(port, ReportPage(empty, /*live=*/true));
+}
+
+bool LiveView::WaitForBrowser(double seconds) const {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (server_->NumConnections() == 0) {
+    if (std::chrono::steady_clock::now() >= until) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
 }
 
 void LiveView::Frame(const System& system, const ProgressState& progress, const json& per_frame, int map_index) {

@@ -31,6 +31,8 @@ class LiveView {
   // Throws InputError when the port cannot be listened on.
   LiveView(int port, const Dataset& dataset, Context context);
   int port() const { return server_->port(); }
+  // Blocks until a browser has connected or `seconds` have passed; whether one has.
+  bool WaitForBrowser(double seconds) const;
 
   // After each frame: `progress` as the console shows it, the run's per-frame tracking times
   // ({frame, tracking_ms}), `map_index`: which map of the run the system is.

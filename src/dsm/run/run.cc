@@ -269,6 +269,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     live.emplace(options.view_port, dataset, context);
     std::printf("view: http://127.0.0.1:%d/ (updated while the run goes on)\n", live->port());
     std::fflush(stdout);
+    if (options.view_wait_s > 0.0 && !live->WaitForBrowser(options.view_wait_s)) {
+      std::printf("view: no browser connected within %g s; the run goes on\n", options.view_wait_s);
+      std::fflush(stdout);
+    }
   }
   const auto process0 = std::chrono::steady_clock::now();
   // Realtime: frame i is released at process0 + (t_i - t_start), as a camera would deliver it.

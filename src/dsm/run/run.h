@@ -54,6 +54,9 @@ struct RunOptions {
   bool write_report = true;  // report.html (report/report.h) in the output folder.
   // >= 0: the live viewer (live_view.h) on this localhost port (0: a free one), its address printed.
   int view_port = -1;
+  // With the live viewer: before the first frame, wait up to this long for a browser to connect,
+  // so that it sees the run from its start (0: do not wait).
+  double view_wait_s = 0.0;
   // Non-empty: per-keyframe diagnostics there (debug_writer.h); they need the sequential pace.
   std::filesystem::path debug_dir;
 };
