@@ -22,6 +22,7 @@
 // it once the pending one is mapped: at most one keyframe is in flight.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <deque>
 #include <functional>
@@ -286,6 +287,15 @@ class System {
   // that move as one camera, never by the prediction.
   bool Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
                   const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason);
+  // Relocalise's keyframes to align with: the reference first, then up to
+  // relocalisation.candidates keyframes; `frame_features`: the frame's ORB features.
+  std::vector<int> RelocalisationCandidates(const ImagePyramid& pyramid, const FrameSignature& signature, int ref,
+                                            OrbFeatures* frame_features);
+  // Relocalise's starting poses of frame `index` relative to keyframe k: the features' pose, `still`
+  // (the last trusted pose relative to k) and it moved by each of `motions`, each also turned
+  // about x and y, k's own pose (k not the reference), and from `first_sighted` on the sightings'.
+  std::vector<SE3d> RelocalisationGuesses(int index, int k, const SE3d& still, const std::array<SE3d, 2>& motions,
+                                          const FeaturePose& feature_pose, size_t* first_sighted) const;
   // A lost frame's best alignment with the map that passed the quality test (camera in the world).
   struct Sighting {
     int index = -1;

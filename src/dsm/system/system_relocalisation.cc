@@ -20,6 +20,7 @@
 // computed once, kept in keyframe_features_), their matches and the candidates' alignments run
 // in parallel on both cores: the mapping side waits while the camera is lost.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -72,6 +73,70 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
   return quality_.CheckJump(now_from_b, n2, internal::Scale(b_from_a, 1.0 / n1), mean_idepth).empty();
 }
 
+std::vector<int> System::RelocalisationCandidates(const ImagePyramid& pyramid, const FrameSignature& signature, int ref,
+                                                 OrbFeatures* frame_features) {
+  // The reference, then the keyframes with the most feature matches among the kPool most alike by
+  // thumbnail (a thumbnail alone ranks poorly after a large change of view). The keyframes'
+  // features are computed on first use, in parallel with the frame's.
+  constexpr int kPool = 12;
+  std::vector<std::pair<double, int>> similar;
+  for (int k = 0; k < map_.NumKeyframes(); ++k)
+    if (k != ref) similar.emplace_back(-Similarity(signature, map_.keyframe(k).signature), k);
+  const int pool = std::min<int>(kPool, static_cast<int>(similar.size()));
+  std::partial_sort(similar.begin(), similar.begin() + pool, similar.end());
+  std::vector<int> unknown;  // Keyframes of the pool and the reference without features yet.
+  for (int i = 0; i <= pool; ++i) {
+    const int k = i < pool ? similar[i].second : ref;
+    if (!keyframe_features_.count(k)) unknown.push_back(k);
+  }
+  std::vector<OrbFeatures> detected(unknown.size());
+  tbb::parallel_for(size_t{0}, unknown.size() + 1, [&](size_t i) {
+    if (i == unknown.size())
+      *frame_features = DetectOrbFeatures(pyramid, {});
+    else
+      detected[i] = DetectOrbFeatures(map_.keyframe(unknown[i]).Level0(), {});
+  });
+  for (size_t i = 0; i < unknown.size(); ++i) keyframe_features_.emplace(unknown[i], std::move(detected[i]));
+  std::vector<std::pair<int, int>> matched(pool);  // (-matches, keyframe)
+  tbb::parallel_for(0, pool, [&](int i) {
+    const int k = similar[i].second;
+    matched[i] = {-CountFeatureMatches(*frame_features, keyframe_features_.at(k), {}), k};
+  });
+  const int n = std::min<int>(options_.relocalisation.candidates, static_cast<int>(matched.size()));
+  std::partial_sort(matched.begin(), matched.begin() + n, matched.end());
+  std::vector<int> candidates = {ref};
+  for (int i = 0; i < n; ++i) candidates.push_back(matched[i].second);
+  return candidates;
+}
+
+std::vector<SE3d> System::RelocalisationGuesses(int index, int k, const SE3d& still, const std::array<SE3d, 2>& motions,
+                                                const FeaturePose& feature_pose, size_t* first_sighted) const {
+  const Keyframe& kf = map_.keyframe(k);
+  std::vector<SE3d> guesses;
+  if (feature_pose.ok) guesses.push_back(feature_pose.frame_from_keyframe);
+  for (const SE3d& base : {still, motions[0] * still, motions[1] * still}) {
+    guesses.push_back(base);
+    for (double angle : {0.05, -0.05})
+      for (int axis = 0; axis < 2; ++axis) guesses.push_back(internal::RotationAbout(axis, angle) * base);
+  }
+  if (k != reference_->keyframe) guesses.push_back(SE3d());
+  // The lost frames sighted before this one (MovesAsOneCamera): the camera moves little from
+  // frame to frame, so the newest sighting, and it moved on by the step between the last two,
+  // are guesses far nearer than anything predicted from before the loss.
+  *first_sighted = guesses.size();
+  if (!sightings_.empty()) {
+    const Sighting& last = sightings_.back();
+    guesses.push_back(last.cam_from_world * kf.cam_from_world.Inverse());
+    if (sightings_.size() == 2) {
+      const Sighting& before = sightings_.front();
+      const SE3d step = internal::ScaleSteps(last.cam_from_world * before.cam_from_world.Inverse(),
+                                             static_cast<double>(index - last.index) / (last.index - before.index));
+      guesses.push_back(step * last.cam_from_world * kf.cam_from_world.Inverse());
+    }
+  }
+  return guesses;
+}
+
 bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
                         const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason) {
   // The map is read below: the mapping side must be idle (nothing is handed to it while lost).
@@ -94,41 +159,12 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     ++tracker_options.levels;
   }
 
-  // Candidates: the reference, then the keyframes with the most feature matches among the
-  // kPool most alike by thumbnail (a thumbnail alone ranks poorly after a large change of view).
-  // The parallel stages (see above) write each result to its own slot; they are weighed in order
-  // below, so the outcome is that of a sequential loop.
-  constexpr int kPool = 12;
-  std::vector<std::pair<double, int>> similar;
-  for (int k = 0; k < map_.NumKeyframes(); ++k)
-    if (k != ref) similar.emplace_back(-Similarity(signature, map_.keyframe(k).signature), k);
-  const int pool = std::min<int>(kPool, static_cast<int>(similar.size()));
-  std::partial_sort(similar.begin(), similar.begin() + pool, similar.end());
-  std::vector<int> unknown;  // Keyframes of the pool and the reference without features yet.
-  for (int i = 0; i <= pool; ++i) {
-    const int k = i < pool ? similar[i].second : ref;
-    if (!keyframe_features_.count(k)) unknown.push_back(k);
-  }
   OrbFeatures frame_features;
-  std::vector<OrbFeatures> detected(unknown.size());
-  tbb::parallel_for(size_t{0}, unknown.size() + 1, [&](size_t i) {
-    if (i == unknown.size())
-      frame_features = DetectOrbFeatures(pyramid, {});
-    else
-      detected[i] = DetectOrbFeatures(map_.keyframe(unknown[i]).Level0(), {});
-  });
-  for (size_t i = 0; i < unknown.size(); ++i) keyframe_features_.emplace(unknown[i], std::move(detected[i]));
-  std::vector<std::pair<int, int>> matched(pool);  // (-matches, keyframe)
-  tbb::parallel_for(0, pool, [&](int i) {
-    const int k = similar[i].second;
-    matched[i] = {-CountFeatureMatches(frame_features, keyframe_features_.at(k), {}), k};
-  });
-  const int n = std::min<int>(options_.relocalisation.candidates, static_cast<int>(matched.size()));
-  std::partial_sort(matched.begin(), matched.begin() + n, matched.end());
-  std::vector<int> candidates = {ref};
-  for (int i = 0; i < n; ++i) candidates.push_back(matched[i].second);
+  const std::vector<int> candidates = RelocalisationCandidates(pyramid, signature, ref, &frame_features);
 
-  // Each candidate keyframe's alignments: the two guesses of lowest coarse energy, refined.
+  // Each candidate keyframe's alignments: the two guesses of lowest coarse energy, refined, and
+  // the sightings' whatever their coarse energy. The parallel stages write each result to its own
+  // slot; they are weighed in order below, so the outcome is that of a sequential loop.
   struct Aligned {
     std::vector<ReferencePoint> points;
     std::shared_ptr<const ImagePyramid> pyramid;
@@ -153,32 +189,11 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     FrameTracker& tracker = *out.tracker;
     tracker.SetReference(out.pyramid.get(), camera_, out.points);
     out.mean_idepth = tracker.MeanIdepth();
-    const SE3d still = last_from_world * kf.cam_from_world.Inverse();
-    std::vector<SE3d> guesses;
     const FeaturePose feature_pose =
         EstimateFeaturePose(frame_features, keyframe_features_.at(k), out.points, camera_, {});
-    if (feature_pose.ok) guesses.push_back(feature_pose.frame_from_keyframe);
-    for (const SE3d& base : {still, half * still, moved * still}) {
-      guesses.push_back(base);
-      for (double angle : {0.05, -0.05})
-        for (int axis = 0; axis < 2; ++axis) guesses.push_back(internal::RotationAbout(axis, angle) * base);
-    }
-    if (k != ref) guesses.push_back(SE3d());
-    // The lost frames sighted before this one (MovesAsOneCamera): the camera moves little from
-    // frame to frame, so the newest sighting, and it moved on by the step between the last two,
-    // are guesses far nearer than anything predicted from before the loss: refined whatever
-    // their coarse energy.
-    const size_t first_sighted = guesses.size();
-    if (!sightings_.empty()) {
-      const Sighting& last = sightings_.back();
-      guesses.push_back(last.cam_from_world * kf.cam_from_world.Inverse());
-      if (sightings_.size() == 2) {
-        const Sighting& before = sightings_.front();
-        const SE3d step = internal::ScaleSteps(last.cam_from_world * before.cam_from_world.Inverse(),
-                                               static_cast<double>(index - last.index) / (last.index - before.index));
-        guesses.push_back(step * last.cam_from_world * kf.cam_from_world.Inverse());
-      }
-    }
+    size_t first_sighted = 0;
+    const std::vector<SE3d> guesses = RelocalisationGuesses(
+        index, k, last_from_world * kf.cam_from_world.Inverse(), {half, moved}, feature_pose, &first_sighted);
     // Brightness: the last trusted frame's. A suspended map's (System::Suspend) is from before
     // the camera left it, and the light may have changed since: the best guess with the images'
     // own statistics (signature.h) is aligned too. Not otherwise: between two views of different
