@@ -106,6 +106,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["occlusion.depth_ratio"] = Set(&o->occlusion.depth_ratio);
   s["occlusion.min_occluders"] = Set(&o->occlusion.min_occluders);
   s["occlusion.span_px"] = Set(&o->occlusion.span_px);
+  s["occlusion.candidate_interval"] = Set(&o->occlusion.candidate_interval);
   s["occlusion.texture_check"] = Set(&o->occlusion.texture_check);
   s["pba.levels"] = Set(&o->pba.levels);
   s["pba.max_iterations"] = Set(&o->pba.max_iterations);

@@ -12,6 +12,8 @@ void OcclusionOptions::Validate() const {
   if (!(depth_ratio > 1.f)) throw InputError("occlusion.depth_ratio must be above 1");
   if (min_occluders < 1) throw InputError("occlusion.min_occluders must be positive");
   if (span_px < 1) throw InputError("occlusion.span_px must be positive");
+  if (!(candidate_interval >= 0.f && candidate_interval < 1.f))
+    throw InputError("occlusion.candidate_interval must be within [0, 1)");
   if (texture_check != "none" && texture_check != "between" && texture_check != "all")
     throw InputError("occlusion.texture_check must be none, between or all (got '" + texture_check + "')");
 }

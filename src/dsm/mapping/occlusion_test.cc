@@ -73,6 +73,14 @@ TEST(OcclusionOptions, BadValuesAreRefused) {
     o.texture_check = check;
     EXPECT_NO_THROW(o.Validate());
   }
+  for (const float interval : {-0.1f, 1.f}) {
+    o = {};
+    o.candidate_interval = interval;
+    EXPECT_THROW(o.Validate(), InputError) << interval;
+  }
+  o = {};
+  o.candidate_interval = 0.25f;
+  EXPECT_NO_THROW(o.Validate());
   EXPECT_NO_THROW(OcclusionOptions{}.Validate());
 }
 

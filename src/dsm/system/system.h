@@ -404,6 +404,10 @@ class System {
   // Covisible keyframes and their points' re-observations in `newest`, except hidden ones.
   void SelectCovisible(int newest, OcclusionGrid* occlusion);
   void AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const;
+  // The window's candidates whose depth has converged (occlusion.candidate_interval), projected into
+  // keyframe `target`: a near object that came into view has candidates well before its points are
+  // activated, and they hide what lies behind it.
+  void AddCandidatesToOcclusionGrid(int target, OcclusionGrid* grid) const;
   // Is point `p`, projected to `px` with inverse depth `rho` in keyframe `kf`, hidden there by a
   // nearer part of the map: nearer points around it, or (occlusion.texture_check) its texture gone
   // there, anywhere or between nearer points (a plain near surface; occlusion.h)?

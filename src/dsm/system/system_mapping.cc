@@ -74,6 +74,7 @@ void System::MapNewKeyframe(int kf) {
   // map hides them there (the PBA verifies the rest).
   OcclusionGrid occlusion(camera_.width, camera_.height, options_.occlusion);
   AddToOcclusionGrid(window_, kf, &occlusion);
+  if (options_.occlusion.candidate_interval > 0.f) AddCandidatesToOcclusionGrid(kf, &occlusion);
   for (int h : window_)
     for (int pid : map_.keyframe(h).points) {
       Point& p = map_.point(pid);
@@ -269,6 +270,25 @@ void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, O
       float rho;
       if (!p.removed && ProjectPoint(map_, camera_, p, target, 0.f, &px, &rho)) grid->Add(px, rho);
     }
+}
+
+void System::AddCandidatesToOcclusionGrid(int target, OcclusionGrid* grid) const {
+  // A candidate at host pixel u with inverse depth rho (the middle of its interval [rho_min,
+  // rho_max]) lies at X_t = T_th K^-1 u / rho in the target; it counts once
+  //   rho_max - rho_min <= candidate_interval * rho   (its epipolar search has pinned it down).
+  const float share = options_.occlusion.candidate_interval;
+  const SE3d& target_from_world = map_.keyframe(target).cam_from_world;
+  for (const auto& [host, candidates] : candidates_) {
+    const SE3d target_from_host = target_from_world * map_.keyframe(host).cam_from_world.Inverse();
+    for (const Candidate& c : candidates) {
+      if (c.removed || c.status != TraceStatus::kGood || c.idepth_max < 0.f) continue;
+      const float rho = c.Idepth();
+      if (!(rho > 0.f) || c.idepth_max - c.idepth_min > share * rho) continue;
+      const Eigen::Vector3d x = target_from_host * (camera_.Unproject(c.pixel.x(), c.pixel.y()) / rho);
+      if (x.z() <= 1e-6) continue;
+      grid->Add(camera_.Project(x).cast<float>(), static_cast<float>(1.0 / x.z()));  // Outside: no cell.
+    }
+  }
 }
 
 bool System::HiddenIn(const Point& p, int kf, const Eigen::Vector2f& px, float rho, const OcclusionGrid& grid) const {
