@@ -342,6 +342,8 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
        "unknown key 'pba.speed'"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " + (dir / "bad_value.yaml").string(),
        "window.temporal_keyframes"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " + dir.string(),
+       "a folder, not a YAML file"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " +
            (dir / "bad_interpolation.yaml").string(),
        "system.interpolation must be auto, bilinear or bspline, not 'bicubic'"},

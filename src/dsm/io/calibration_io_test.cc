@@ -49,6 +49,9 @@ TEST(CameraYaml, MalformedFilesGiveClearErrors) {
   WriteText(dir / "syntax.yaml", "model: [pinhole\n");
   EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "syntax.yaml"); }).find("syntax.yaml"), std::string::npos);
   EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "none.yaml"); }).find("not found"), std::string::npos);
+  EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir); }).find("a folder, not a YAML file"), std::string::npos);
+  // Not a file but readable: /dev/null reads as an empty file, which names what it lacks.
+  EXPECT_NE(MessageOf([&] { ReadCameraYaml("/dev/null"); }).find("/dev/null"), std::string::npos);
   // A key that is itself a sequence (found by fuzz/folder_dataset).
   WriteText(dir / "key.yaml", good + "[rate_hz]: 20\n");
   EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "key.yaml"); }).find("line 5: a key must be a plain name"),

@@ -6,7 +6,12 @@
 namespace dsm {
 
 YAML::Node LoadYamlFile(const std::filesystem::path& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path.string() + ": file not found");
+  // Anything that reads as text but a folder (which opens as a stream and fails on the first
+  // read): a file, /dev/null for no settings, a pipe (`--config <(printf ...)`).
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) throw InputError(path.string() + ": file not found");
+  if (std::filesystem::is_directory(status)) throw InputError(path.string() + ": a folder, not a YAML file");
   std::string text;
   for (const auto& line : ReadLines(path)) {
     if (line.rfind("%YAML", 0) == 0) continue;
