@@ -3,23 +3,15 @@
 
 #include <gtest/gtest.h>
 
+#include "dsm/testing/input_error.h"
 #include "dsm/testing/test_data.h"
-#include "dsm/util/check.h"
 
 namespace dsm {
 namespace {
 
+using testing::MessageOf;
 using testing::ScratchDir;
 using testing::WriteText;
-
-std::string MessageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
-}
 
 TEST(OptionsYaml, SetsTheKeysItNamesAndLeavesTheRest) {
   const auto dir = ScratchDir("options_yaml");
