@@ -273,20 +273,21 @@ void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, O
 }
 
 void System::AddCandidatesToOcclusionGrid(int target, OcclusionGrid* grid) const {
-  // A candidate at host pixel u with inverse depth rho (the middle of its interval [rho_min,
-  // rho_max]) lies at X_t = T_th K^-1 u / rho in the target; it counts once
+  // A candidate with inverse depth rho (the middle of its interval [rho_min, rho_max]) counts,
+  // projected like a point, once
   //   rho_max - rho_min <= candidate_interval * rho   (its epipolar search has pinned it down).
   const float share = options_.occlusion.candidate_interval;
-  const SE3d& target_from_world = map_.keyframe(target).cam_from_world;
   for (const auto& [host, candidates] : candidates_) {
-    const SE3d target_from_host = target_from_world * map_.keyframe(host).cam_from_world.Inverse();
+    Point probe;
+    probe.host = host;
     for (const Candidate& c : candidates) {
       if (c.removed || c.status != TraceStatus::kGood || c.idepth_max < 0.f) continue;
-      const float rho = c.Idepth();
-      if (!(rho > 0.f) || c.idepth_max - c.idepth_min > share * rho) continue;
-      const Eigen::Vector3d x = target_from_host * (camera_.Unproject(c.pixel.x(), c.pixel.y()) / rho);
-      if (x.z() <= 1e-6) continue;
-      grid->Add(camera_.Project(x).cast<float>(), static_cast<float>(1.0 / x.z()));  // Outside: no cell.
+      probe.idepth = c.Idepth();
+      if (!(probe.idepth > 0.f) || c.idepth_max - c.idepth_min > share * probe.idepth) continue;
+      probe.pixel = c.pixel;
+      Eigen::Vector2f px;
+      float rho;
+      if (ProjectPoint(map_, camera_, probe, target, 0.f, &px, &rho)) grid->Add(px, rho);
     }
   }
 }
