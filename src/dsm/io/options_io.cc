@@ -36,6 +36,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["system.seam_ba_count"] = Set(&o->seam_ba_count);
   s["system.seam_ba_step"] = Set(&o->seam_ba_step);
   s["system.seam_ba_before"] = Set(&o->seam_ba_before);
+  s["system.rejoin_min_outliers"] = Set(&o->rejoin_min_outliers);
   s["system.loop_ba_max_keyframes"] = Set(&o->loop_ba_max_keyframes);
   s["system.loop_ba_max_iterations"] = Set(&o->loop_ba_max_iterations);
   s["initializer.max_corners"] = Set(&o->initializer.max_corners);

@@ -47,6 +47,7 @@ void SystemOptions::Validate() const {
   if (seam_ba_count < 0) throw InputError("system.seam_ba_count must be non-negative (0: never)");
   if (seam_ba_step < 1) throw InputError("system.seam_ba_step must be at least 1");
   if (seam_ba_before < 0) throw InputError("system.seam_ba_before must be non-negative");
+  if (rejoin_min_outliers < 0) throw InputError("system.rejoin_min_outliers must be non-negative (0: never)");
   if (loop_ba_max_keyframes < 2) throw InputError("system.loop_ba_max_keyframes must be at least 2");
   if (loop_ba_max_iterations < 0) throw InputError("system.loop_ba_max_iterations must be non-negative (0: as pba)");
   if (tracker.levels > pyramid_levels) throw InputError("tracker.levels cannot exceed pyramid_levels");

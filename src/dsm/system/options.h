@@ -131,6 +131,13 @@ struct SystemOptions {
   int seam_ba_count = 4;  // 0: never.
   int seam_ba_step = 2;
   int seam_ba_before = 8;
+  // The part mapped since a relocalisation is joined to the older map by the relocalised pose
+  // alone, which a small overlap leaves a few percent of the baseline off. When the camera later
+  // sees the older map again and at least rejoin_min_outliers of a new keyframe's observations of
+  // its points are outliers (three times its inlier ones), the keyframe is aligned with the old
+  // keyframe they come from, and the whole part is moved by the correction (README, Lost frames
+  // and relocalisation). 0: never.
+  int rejoin_min_outliers = 50;
   int loop_ba_max_keyframes = 120;
   int loop_ba_max_iterations = 0;  // Per level; 0: as pba.max_iterations.
   InitializerOptions initializer;

@@ -88,6 +88,10 @@ TEST(SystemOptions, RejectsASeamAdjustmentOutOfRange) {
   EXPECT_THROW(options.Validate(), InputError);
   options.seam_ba_before = 0;
   EXPECT_NO_THROW(options.Validate());
+  options.rejoin_min_outliers = -1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.rejoin_min_outliers = 0;  // Never.
+  EXPECT_NO_THROW(options.Validate());
 }
 
 }  // namespace

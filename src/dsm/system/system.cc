@@ -316,6 +316,7 @@ void System::RunJob(const MappingJob& job) {
     relocalisations_mapped_ = job.relocalisations;
     loop_ba_pending_ = true;
     seam_first_ = map_.NumKeyframes();
+    rejoin_first_ = seam_first_;
   }
   if (job.keyframe < 0) return;
   // Tracking resumed against an older keyframe (relocalisation): it rejoins the temporal window,

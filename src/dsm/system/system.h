@@ -105,6 +105,10 @@ struct SystemStats {
     int loop_ba_keyframes = 0;  // Keyframes the loop bundle adjustment after this one freed (0: none).
     double loop_ba_ms = 0.0;
     bool loop_ba_seam = false;  // That adjustment was a relocalisation's seam (SystemOptions::seam_ba_count).
+    // The part mapped since the relocalisation moved onto the older map (rejoin_min_outliers):
+    // the correction's translation over the old keyframe's median depth, and its rotation.
+    bool rejoined = false;
+    double rejoin_step = 0.0, rejoin_deg = 0.0;
     int observations_removed = 0;  // Marked outliers after its bundle adjustment.
     int observations_texture_lost = 0;  // Of those: the texture vanished in the target (texture_loss.h).
     int points_culled = 0;         // Removed after its bundle adjustment.
@@ -381,6 +385,9 @@ class System {
   // The seam adjustment after a relocalisation (SystemOptions::seam_ba_count) after keyframe
   // `newest` is published, when due; true when it ran.
   bool AdjustSeam(int newest);
+  // The part mapped since the last relocalisation moved onto the older map when keyframe `newest`
+  // sees that map's points as outliers (SystemOptions::rejoin_min_outliers); true when it moved.
+  bool RejoinAfterRelocalisation(int newest);
   // A loop or seam adjustment of `keyframes` (`held` among them stay fixed), logged with the newest
   // keyframe's entry and in stats_.loop_ba_ms.
   void AdjustAfterNewest(std::vector<int> keyframes, std::vector<int> held, const PbaOptions& pba, bool seam);
@@ -422,6 +429,7 @@ class System {
   int last_loop_ba_ = -1;       // Keyframe after which the last loop bundle adjustment ran.
   int relocalisations_mapped_ = 0;  // The tracking side's count as the last job brought it.
   int seam_first_ = -1;             // The first keyframe mapped after the last relocalisation (-1: none).
+  int rejoin_first_ = -1;           // The same, until that part was rejoined (-1: none).
   bool loop_ba_pending_ = false;    // A relocalisation since the last loop bundle adjustment.
   std::vector<Eigen::Vector2f> old_pixels_;  // Newest-keyframe pixels of old, unselected map points.
   std::map<int, std::vector<Candidate>> candidates_;

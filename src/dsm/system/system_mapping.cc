@@ -250,6 +250,7 @@ void System::FinishKeyframe(int kf) {
   // (UpdateReference keeps the frames' poses relative to it).
   bool adjusted = RunParked();
   if (AdjustYoungMap()) adjusted = true;
+  if (RejoinAfterRelocalisation(kf)) adjusted = true;
   if (AdjustSeam(kf)) adjusted = true;
   if (AdjustLoop(kf)) adjusted = true;
   if (adjusted) PublishTrackingReference();
