@@ -435,7 +435,9 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     if (k.loop_ba_keyframes > 0)
       per_keyframe.back()["loop_ba"] = {
           {"keyframes", k.loop_ba_keyframes}, {"ms", k.loop_ba_ms}, {"seam", k.loop_ba_seam}};
-    if (k.rejoined) per_keyframe.back()["rejoin"] = {{"step", k.rejoin_step}, {"degrees", k.rejoin_deg}};
+    if (k.rejoined)
+      per_keyframe.back()["rejoin"] = {
+          {"step", k.rejoin_step}, {"degrees", k.rejoin_deg}, {"shift_px", k.rejoin_shift_px}};
     created.push_back(k.points_created);
   }
   summary.stats = {

@@ -106,9 +106,10 @@ struct SystemStats {
     double loop_ba_ms = 0.0;
     bool loop_ba_seam = false;  // That adjustment was a relocalisation's seam (SystemOptions::seam_ba_count).
     // The part mapped since the relocalisation moved onto the older map (rejoin_min_outliers):
-    // the correction's translation over the old keyframe's median depth, and its rotation.
+    // the correction's translation over the old keyframe's mean depth, its rotation (degrees)
+    // and the median shift of the old points in the keyframe (pixels).
     bool rejoined = false;
-    double rejoin_step = 0.0, rejoin_deg = 0.0;
+    double rejoin_step = 0.0, rejoin_deg = 0.0, rejoin_shift_px = 0.0;
     int observations_removed = 0;  // Marked outliers after its bundle adjustment.
     int observations_texture_lost = 0;  // Of those: the texture vanished in the target (texture_loss.h).
     int points_culled = 0;         // Removed after its bundle adjustment.
