@@ -81,6 +81,11 @@ struct Keyframe {
     DSM_CHECK(pyramid != nullptr, "keyframe pyramid used without Map::LoadPyramids");
     return *pyramid;
   }
+  // Its pyramid, or one rebuilt from the fixed-point level 0 for the caller alone when released
+  // (the keyframe stays as it is: for readers that may not load pyramids into the map).
+  std::shared_ptr<const ImagePyramid> PyramidOrRebuilt() const {
+    return pyramid ? pyramid : std::make_shared<const ImagePyramid>(ImagePyramid::FromFixed(image, pyramid_levels));
+  }
   float Intensity(int x, int y) const {
     return pyramid != nullptr ? pyramid->Value(0, x, y) : image(x, y) * (1.f / ImagePyramid::kValueScale);
   }

@@ -71,8 +71,7 @@ bool System::RejoinAfterRelocalisation(int newest) {
   const Keyframe& o = map_.keyframe(old);
   const Keyframe& k = map_.keyframe(newest);
   const std::vector<ReferencePoint> points = PointsSeenIn(old);
-  const std::shared_ptr<const ImagePyramid> pyramid =
-      o.pyramid ? o.pyramid : std::make_shared<const ImagePyramid>(ImagePyramid::FromFixed(o.image, o.pyramid_levels));
+  const std::shared_ptr<const ImagePyramid> pyramid = o.PyramidOrRebuilt();
   FrameTracker tracker(options_.tracker);
   tracker.SetReference(pyramid.get(), camera_, points);
   double alpha, beta;

@@ -183,8 +183,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     Aligned& out = aligned[c];
     out.points = PointsSeenIn(k);
     if (out.points.empty()) return;
-    out.pyramid =
-        kf.pyramid ? kf.pyramid : std::make_shared<const ImagePyramid>(ImagePyramid::FromFixed(kf.image, kf.pyramid_levels));
+    out.pyramid = kf.PyramidOrRebuilt();
     out.tracker = std::make_unique<FrameTracker>(tracker_options);
     FrameTracker& tracker = *out.tracker;
     tracker.SetReference(out.pyramid.get(), camera_, out.points);
