@@ -91,18 +91,16 @@ bool System::RejoinAfterRelocalisation(int newest) {
   const int before = consistent();
   // Where the old points land in the keyframe, before and after the correction.
   const auto landing = [&] {
-    std::vector<Eigen::Vector2f> px(observed.size(), Eigen::Vector2f::Constant(NAN));
+    std::vector<Eigen::Vector2f> px(observed.size());
     float rho;
     for (size_t i = 0; i < observed.size(); ++i)
       if (!ProjectPoint(map_, camera_, map_.point(observed[i]), newest, -1e6f, &px[i], &rho)) px[i].setConstant(NAN);
     return px;
   };
   const std::vector<Eigen::Vector2f> from = landing();
-  std::vector<SE3d> poses;
-  for (int j = rejoin_first_; j < map_.NumKeyframes(); ++j) {
-    poses.push_back(map_.keyframe(j).cam_from_world);
-    map_.keyframe(j).cam_from_world = map_.keyframe(j).cam_from_world * from_old;
-  }
+  // The checks read the new keyframe's pose alone (the old points' hosts stay): it moves first.
+  const SE3d pose = k.cam_from_world;
+  map_.keyframe(newest).cam_from_world = pose * from_old;
   const int after = consistent();
   const std::vector<Eigen::Vector2f> to = landing();
   std::vector<float> moved;
@@ -116,9 +114,11 @@ bool System::RejoinAfterRelocalisation(int newest) {
   // the part where a rigid move cannot (`loop` seeds 1, 2, 4 with the defects, 0.7-4.5 px: 0.35,
   // 0.44, 0.33 mm moved -> 0.37, 0.47, 0.35).
   if (2 * after < static_cast<int>(observed.size()) || after < 2 * before || shift_px < kMinShiftPx) {
-    for (int j = rejoin_first_; j < map_.NumKeyframes(); ++j) map_.keyframe(j).cam_from_world = poses[j - rejoin_first_];
+    map_.keyframe(newest).cam_from_world = pose;
     return false;
   }
+  for (int j = rejoin_first_; j < map_.NumKeyframes(); ++j)
+    if (j != newest) map_.keyframe(j).cam_from_world = map_.keyframe(j).cam_from_world * from_old;
   // The window's judgements at the poses it had: made again by the next adjustments.
   for (int h : covisible_)
     for (int pid : map_.keyframe(h).points) {
