@@ -46,9 +46,9 @@ std::string TrackingStatusName(TrackingStatus status) {
 System::System(const PinholeCamera& camera, const SystemOptions& options)
     : camera_(camera),
       options_(options),
-      min_activation_distance_px_(options.activation.initial_min_distance_px),
-      quality_(options.quality) {
+      min_activation_distance_px_(options.activation.initial_min_distance_px) {
   options_.Validate();
+  track_.quality = TrackingQuality(options.quality);
   if (options_.mode == MapMode::kSlidingWindow) {
     // DSM-SW: the same window size N_w = N_t + N_c, all of it temporal (a sliding window as DSO's).
     options_.window.temporal_keyframes += options_.window.covisible_keyframes;
@@ -115,13 +115,13 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   const FrameSignature signature = ComputeSignature(*pyramid);
   const double previous_texture = previous_texture_;
   previous_texture_ = signature.texture;
-  std::string reason = quality_.CheckImage(signature.texture);
+  std::string reason = track_.quality.CheckImage(signature.texture);
   TrackResult result;
   SE3d relocalised_velocity;
   const auto track = [&] {
     result = TrackFrame(index, *pyramid, exposure);
     if (result.brightness_held) ++stats_.brightness_holds;
-    reason = quality_.CheckTracking(result, result.frame_from_keyframe * last_frame_from_reference_.Inverse(),
+    reason = track_.quality.CheckTracking(result, result.frame_from_keyframe * track_.last_frame_from_reference.Inverse(),
                                     FramesSinceTrusted(index), tracker_->MeanIdepth());
     // A relocalisation is confirmed by an alignment that found its own way, not by one that fell
     // into the flat prediction and was done again with the brightness held: its pose passes a
@@ -191,11 +191,11 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     // where any pose fits the rest as well as the right one: it re-anchors the camera only by
     // three sightings that move as one camera. (A view turned to a plainer part of the scene has
     // as little: not trying it at all started a second map on `rotation` after the noise.)
-    const std::string plain = quality_.CheckRelocalisationImage(signature.texture, reference_->texture);
+    const std::string plain = track_.quality.CheckRelocalisationImage(signature.texture, reference_->texture);
     Tentative before = SaveTentative(index);
     report.relocalised = Relocalise(index, *pyramid, signature, exposure, plain, &result, &relocalised_velocity, &reason);
     if (report.relocalised) tentative_ = std::move(before);
-    if (!report.relocalised) ++failed_relocalisations_;
+    if (!report.relocalised) ++track_.failed_relocalisations;
   }
   if (!reason.empty() && tentative_) WithdrawRelocalisation();
   report.tracking_ms = MsSince(t0);
@@ -213,14 +213,14 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     }
   }
   lost_ = false;
-  lost_in_a_row_ = failed_relocalisations_ = 0;
+  track_.lost_in_a_row = track_.failed_relocalisations = 0;
   // A relocalised frame's reference is another keyframe than the last trusted frame's: its
   // velocity comes from Relocalise.
   CommitPose(index, result, exposure, report.relocalised ? std::optional<SE3d>(relocalised_velocity) : std::nullopt);
   if (report.relocalised) {
-    quality_.Restart(result.residual_p50, signature.texture);
+    track_.quality.Restart(result.residual_p50, signature.texture);
   } else {
-    quality_.Trust(result.residual_p50, signature.texture);
+    track_.quality.Trust(result.residual_p50, signature.texture);
   }
   last_frame_keyframe_ = -1;
   report.status = TrackingStatus::kOk;
@@ -231,13 +231,13 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   // A tentative pose feeds nothing to the mapping side (and never makes a keyframe).
   if (report.relocalised) return report;
 
-  if (first_rmse_after_keyframe_ == 0.0) first_rmse_after_keyframe_ = result.rmse;
+  if (track_.first_rmse_after_keyframe == 0.0) track_.first_rmse_after_keyframe = result.rmse;
   KeyframeScores scores;
   scores.parallax = result.frame_from_keyframe.Translation().norm() * tracker_->MeanIdepth();
   scores.visibility = result.visibility;
   scores.brightness = std::abs(result.alpha - std::log(exposure / reference_->exposure[reference_->keyframe]));
   scores.rmse = result.rmse;
-  scores.first_rmse = first_rmse_after_keyframe_;
+  scores.first_rmse = track_.first_rmse_after_keyframe;
 
   MappingJob job;
   job.index = index;
@@ -250,7 +250,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   job.beta = result.beta;
   job.relocalisations = stats_.relocalisations;
   want_keyframe_ = false;
-  if (ShouldCreateKeyframe(scores, options_.keyframe) && quality_.CheckKeyframeImage(signature.texture, previous_texture)) {
+  if (ShouldCreateKeyframe(scores, options_.keyframe) && track_.quality.CheckKeyframeImage(signature.texture, previous_texture)) {
     if (mapping_thread_ && (mapping_thread_->KeyframesPending() > 0 || ReferenceIsStale())) {
       // Another keyframe is in flight, or was published while this frame was tracked against the
       // one before it: a keyframe made from this frame would hang off the older keyframe, next
@@ -354,19 +354,19 @@ void System::UpdateReference(bool wait) {
     // start): its pose and brightness move from the old reference to it.
     // Both keyframes as the new snapshot has them (the bundle adjustment moved both since).
     const int o = reference_->keyframe, n = next->keyframe;
-    last_frame_from_reference_ = last_frame_from_reference_ * next->cam_from_world[o] * next->cam_from_world[n].Inverse();
+    track_.last_frame_from_reference = track_.last_frame_from_reference * next->cam_from_world[o] * next->cam_from_world[n].Inverse();
     // Absolute brightness of the last frame, then relative to the new reference.
-    const AffineBrightness f = FrameBrightness(next->affine[o], next->exposure[o], last_alpha_, last_beta_, last_exposure_);
-    internal::RelativeBrightness(f, last_exposure_, next->affine[n], next->exposure[n], &last_alpha_, &last_beta_);
+    const AffineBrightness f = FrameBrightness(next->affine[o], next->exposure[o], track_.alpha, track_.beta, track_.exposure);
+    internal::RelativeBrightness(f, track_.exposure, next->affine[n], next->exposure[n], &track_.alpha, &track_.beta);
   } else {
     // The new reference is the keyframe made from the last tracked frame.
-    last_frame_from_reference_ = SE3d();
-    last_alpha_ = 0.0;
-    last_beta_ = 0.0;
+    track_.last_frame_from_reference = SE3d();
+    track_.alpha = 0.0;
+    track_.beta = 0.0;
   }
   reference_ = std::move(next);
   tracker_->SetReference(reference_->pyramid.get(), camera_, reference_->points);
-  first_rmse_after_keyframe_ = 0.0;
+  track_.first_rmse_after_keyframe = 0.0;
 }
 
 void System::Finish() {
@@ -387,22 +387,22 @@ void System::Finish() {
 
 TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const {
   // Relative brightness guess: the last one, corrected for the change of exposure time.
-  const double alpha_guess = last_alpha_ + std::log(exposure / last_exposure_);
+  const double alpha_guess = track_.alpha + std::log(exposure / track_.exposure);
   // Guesses of frame_from_reference: constant velocity first, then alternatives.
-  const SE3d last = last_frame_from_reference_;
+  const SE3d last = track_.last_frame_from_reference;
   const int gap = FramesSinceTrusted(index);
-  const SE3d step = internal::ScaleSteps(velocity_, gap);  // Over the frames since the last.
+  const SE3d step = internal::ScaleSteps(track_.velocity, gap);  // Over the frames since the last.
   std::vector<SE3d> guesses = {step * last, last, step * step * last, Scale(step, 0.5) * last};
   for (double angle : {0.02, -0.02})
     for (int axis = 0; axis < 3; ++axis) guesses.push_back(internal::RotationAbout(axis, angle) * step * last);
   std::vector<std::pair<double, int>> ranked;
   for (size_t g = 0; g < guesses.size(); ++g)
-    ranked.emplace_back(tracker_->CoarseEnergy(pyramid, guesses[g], alpha_guess, last_beta_), static_cast<int>(g));
+    ranked.emplace_back(tracker_->CoarseEnergy(pyramid, guesses[g], alpha_guess, track_.beta), static_cast<int>(g));
   // Constant velocity stays first unless another guess is clearly better.
   std::stable_sort(ranked.begin() + 1, ranked.end());
   if (ranked[1].first < 0.7 * ranked[0].first) std::swap(ranked[0], ranked[1]);
   const auto track = [&](int attempt) {
-    return tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, last_beta_, gap);
+    return tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, track_.beta, gap);
   };
   // Other guesses only when the first failed or left a much larger residual than usual (about a
   // fifth of the frames: the residual grows until the next keyframe). The second and third are
@@ -410,7 +410,7 @@ TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double ex
   // when the second did not settle it, so the result is the same.
   TrackResult best = track(0);
   const auto settled = [&] {
-    return best.ok && (first_rmse_after_keyframe_ == 0.0 || best.rmse < 2.0 * first_rmse_after_keyframe_);
+    return best.ok && (track_.first_rmse_after_keyframe == 0.0 || best.rmse < 2.0 * track_.first_rmse_after_keyframe);
   };
   if (settled()) return best;
   std::array<TrackResult, 2> other;
@@ -424,14 +424,14 @@ TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double ex
 
 void System::CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity) {
   const int gap = FramesSinceTrusted(index);
-  const SE3d step = result.frame_from_keyframe * last_frame_from_reference_.Inverse();
-  velocity_ = velocity ? *velocity : internal::ScaleSteps(step, 1.0 / gap);
-  last_trusted_index_ = index;
-  last_trusted_t_ns_ = current_t_ns_;
-  last_frame_from_reference_ = result.frame_from_keyframe;
-  last_alpha_ = result.alpha;
-  last_beta_ = result.beta;
-  last_exposure_ = exposure;
+  const SE3d step = result.frame_from_keyframe * track_.last_frame_from_reference.Inverse();
+  track_.velocity = velocity ? *velocity : internal::ScaleSteps(step, 1.0 / gap);
+  track_.last_trusted_index = index;
+  track_.last_trusted_t_ns = current_t_ns_;
+  track_.last_frame_from_reference = result.frame_from_keyframe;
+  track_.alpha = result.alpha;
+  track_.beta = result.beta;
+  track_.exposure = exposure;
 }
 
 void System::TraceCandidates(const ImagePyramid& pyramid, int reference, const SE3d& frame_from_reference,
@@ -492,7 +492,7 @@ std::shared_ptr<const MapSnapshot> System::TrackedMapSnapshot() const {
 
 std::optional<SE3d> System::LastFramePose() const {
   if (!reference_ || reference_->keyframe < 0) return std::nullopt;
-  return WorldFromCam(last_frame_from_reference_);
+  return WorldFromCam(track_.last_frame_from_reference);
 }
 
 SE3d System::WorldFromCam(const SE3d& frame_from_reference) const {

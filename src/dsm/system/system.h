@@ -308,18 +308,28 @@ class System {
   };
   // True when the sightings of the two lost frames before and this one move as one camera does.
   bool MovesAsOneCamera(const Sighting& now, double mean_idepth) const;
+  // The tracking side's state that each frame moves on (CommitPose, LostFrame), kept whole by a
+  // tentative relocalisation and put back when it is withdrawn.
+  struct TrackingState {
+    // velocity: the camera's motion per frame index (frame_from_previous over one index step;
+    // frames dropped or skipped between two trusted ones divide their step).
+    SE3d last_frame_from_reference, velocity;
+    int last_trusted_index = -1;  // Frame index of the last trusted frame ...
+    int64_t last_trusted_t_ns = 0;  // ... and its timestamp.
+    double alpha = 0.0, beta = 0.0;  // Brightness of the last frame relative to the reference.
+    double exposure = 1.0;           // The last frame's exposure.
+    double first_rmse_after_keyframe = 0.0;
+    TrackingQuality quality{QualityOptions{}};
+    int lost_in_a_row = 0;           // Lost frames since the last trusted one.
+    int failed_relocalisations = 0;  // Frames relocalisation tried and failed since the last trusted one.
+  };
   // The tracking side's state before a relocalisation of frame `index`, restored when the next
   // frame does not confirm it.
   struct Tentative {
     int index = -1;
     size_t record = 0;  // The relocalised frame's entry in frames_.
     std::shared_ptr<const TrackingReference> reference;
-    SE3d last_frame_from_reference, velocity;
-    int last_trusted_index = -1;
-    int64_t last_trusted_t_ns = 0;
-    double alpha = 0.0, beta = 0.0, exposure = 1.0, first_rmse_after_keyframe = 0.0;
-    TrackingQuality quality{QualityOptions{}};
-    int lost_in_a_row = 0, failed_relocalisations = 0;
+    TrackingState state;
   };
   Tentative SaveTentative(int index) const;
   void WithdrawRelocalisation();
@@ -459,26 +469,16 @@ class System {
     int steps = 1;                     // Frame steps from keyframe 0 to keyframe 1.
   };
   InitBetween init_between_;  // Set by StartMap, tracked on the mapping side (TrackInitFrames).
-  // velocity: the camera's motion per frame index (frame_from_previous over one index step; frames
-  // dropped or skipped between two trusted ones divide their step).
-  SE3d last_frame_from_reference_, velocity_;
-  int last_trusted_index_ = -1;  // Frame index of the last trusted frame ...
-  int64_t last_trusted_t_ns_ = 0;  // ... and its timestamp.
+  TrackingState track_;
   // The frame being processed, the last one seen before it, the recording's frame interval (0:
   // not known yet) and the steps it is the median of (NoteTimestamp).
   int64_t current_t_ns_ = 0, seen_t_ns_ = 0;
   int seen_index_ = -1;
   double frame_interval_ns_ = 0.0;
   std::deque<double> interval_steps_;
-  double last_alpha_ = 0.0, last_beta_ = 0.0;  // Brightness of the last frame relative to the reference.
-  double last_exposure_ = 1.0;
   double previous_texture_ = 0.0;  // FrameSignature::texture of the frame before, whatever became of it.
-  double first_rmse_after_keyframe_ = 0.0;
-  TrackingQuality quality_;
   bool lost_ = false;
   bool suspended_ = false;          // Suspend.
-  int lost_in_a_row_ = 0;           // Lost frames since the last trusted one.
-  int failed_relocalisations_ = 0;  // Frames relocalisation tried and failed since the last trusted one.
   std::optional<Tentative> tentative_;  // Set from a relocalisation until the next frame confirms it.
   std::deque<Sighting> sightings_;      // Of the last lost frames (at most two), oldest first.
   bool wait_after_relocalisation_ = false;  // The next frame waits for the confirming keyframe.

@@ -12,12 +12,12 @@
 namespace dsm {
 
 int System::FramesSinceTrusted(int index) const {
-  if (last_trusted_index_ < 0) return 1;
-  int frames = std::max(1, index - last_trusted_index_);
+  if (track_.last_trusted_index < 0) return 1;
+  int frames = std::max(1, index - track_.last_trusted_index);
   // A gap in the recording's timestamps (frames missing from it) counts as the frames that would
   // have filled it: the camera moved on meanwhile.
-  if (frame_interval_ns_ > 0.0 && current_t_ns_ > last_trusted_t_ns_) {
-    const double intervals = static_cast<double>(current_t_ns_ - last_trusted_t_ns_) / frame_interval_ns_;
+  if (frame_interval_ns_ > 0.0 && current_t_ns_ > track_.last_trusted_t_ns) {
+    const double intervals = static_cast<double>(current_t_ns_ - track_.last_trusted_t_ns) / frame_interval_ns_;
     frames = std::max(frames, static_cast<int>(std::min(std::round(intervals), 1e6)));
   }
   return frames;
@@ -40,7 +40,7 @@ void System::NoteTimestamp(int index, int64_t t_ns) {
 FrameReport System::LostFrame(FrameReport report, int64_t t_ns, std::string reason) {
   report.status = TrackingStatus::kLost;
   report.reason = std::move(reason);
-  ++lost_in_a_row_;
+  ++track_.lost_in_a_row;
   if (suspended_) return report;  // Not its frame (Suspend).
   frames_.push_back({t_ns, -1, SE3d()});
   ++stats_.frames_lost;
@@ -53,22 +53,7 @@ FrameReport System::LostFrame(FrameReport report, int64_t t_ns, std::string reas
 }
 
 System::Tentative System::SaveTentative(int index) const {
-  Tentative t;
-  t.index = index;
-  t.record = frames_.size();
-  t.reference = reference_;
-  t.last_frame_from_reference = last_frame_from_reference_;
-  t.velocity = velocity_;
-  t.last_trusted_index = last_trusted_index_;
-  t.last_trusted_t_ns = last_trusted_t_ns_;
-  t.alpha = last_alpha_;
-  t.beta = last_beta_;
-  t.exposure = last_exposure_;
-  t.first_rmse_after_keyframe = first_rmse_after_keyframe_;
-  t.quality = quality_;
-  t.lost_in_a_row = lost_in_a_row_;
-  t.failed_relocalisations = failed_relocalisations_;
-  return t;
+  return Tentative{index, frames_.size(), reference_, track_};
 }
 
 void System::WithdrawRelocalisation() {
@@ -85,25 +70,17 @@ void System::WithdrawRelocalisation() {
     ++stats_.frames_lost;
     stats_.lost_episodes.back().second = t.index;
   }
-  lost_in_a_row_ = t.lost_in_a_row + 1;
-  failed_relocalisations_ = t.failed_relocalisations + 1;
   // The mapping side is idle: it was handed nothing since the camera was lost.
   if (reference_ != t.reference) AdoptReference(t.reference);
-  last_frame_from_reference_ = t.last_frame_from_reference;
-  velocity_ = t.velocity;
-  last_trusted_index_ = t.last_trusted_index;
-  last_trusted_t_ns_ = t.last_trusted_t_ns;
-  last_alpha_ = t.alpha;
-  last_beta_ = t.beta;
-  last_exposure_ = t.exposure;
-  first_rmse_after_keyframe_ = t.first_rmse_after_keyframe;
-  quality_ = t.quality;
+  track_ = t.state;
+  ++track_.lost_in_a_row;
+  ++track_.failed_relocalisations;
   lost_ = true;
   tentative_.reset();
 }
 
 bool System::NeedsNewMap() const {
-  return options_.relocalisation.max_lost_frames > 0 && failed_relocalisations_ >= options_.relocalisation.max_lost_frames;
+  return options_.relocalisation.max_lost_frames > 0 && track_.failed_relocalisations >= options_.relocalisation.max_lost_frames;
 }
 
 }  // namespace dsm

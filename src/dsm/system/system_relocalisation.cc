@@ -42,7 +42,7 @@ void System::AdoptReference(std::shared_ptr<const TrackingReference> ref) {
   }
   reference_ = std::move(ref);
   tracker_->SetReference(reference_->pyramid.get(), camera_, reference_->points);
-  first_rmse_after_keyframe_ = 0.0;
+  track_.first_rmse_after_keyframe = 0.0;
 }
 
 std::vector<ReferencePoint> System::PointsSeenIn(int kf) {
@@ -69,8 +69,8 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
   if (n1 < 1 || n2 < 1 || n1 > kMaxGap || n2 > kMaxGap) return false;
   const SE3d b_from_a = b.cam_from_world * a.cam_from_world.Inverse();
   const SE3d now_from_b = now.cam_from_world * b.cam_from_world.Inverse();
-  if (!quality_.CheckSpeed(b_from_a, n1, velocity_.Translation().norm(), mean_idepth).empty()) return false;
-  return quality_.CheckJump(now_from_b, n2, internal::Scale(b_from_a, 1.0 / n1), mean_idepth).empty();
+  if (!track_.quality.CheckSpeed(b_from_a, n1, track_.velocity.Translation().norm(), mean_idepth).empty()) return false;
+  return track_.quality.CheckJump(now_from_b, n2, internal::Scale(b_from_a, 1.0 / n1), mean_idepth).empty();
 }
 
 std::vector<int> System::RelocalisationCandidates(const ImagePyramid& pyramid, const FrameSignature& signature, int ref,
@@ -144,13 +144,13 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   UpdateReference(false);
   const int ref = reference_->keyframe;
   // The last trusted frame, in the world and in absolute brightness, as the map has it now.
-  const SE3d last_from_world = last_frame_from_reference_ * map_.keyframe(ref).cam_from_world;
+  const SE3d last_from_world = track_.last_frame_from_reference * map_.keyframe(ref).cam_from_world;
   const AffineBrightness last_brightness =
-      internal::FrameBrightness(map_.keyframe(ref).affine, map_.keyframe(ref).exposure, last_alpha_, last_beta_,
-                                last_exposure_);
+      internal::FrameBrightness(map_.keyframe(ref).affine, map_.keyframe(ref).exposure, track_.alpha, track_.beta,
+                                track_.exposure);
   const int since = FramesSinceTrusted(index);
-  const SE3d moved = internal::Scale(velocity_, since);
-  const SE3d half = internal::Scale(velocity_, 0.5 * since);
+  const SE3d moved = internal::Scale(track_.velocity, since);
+  const SE3d half = internal::Scale(track_.velocity, 0.5 * since);
   // Coarse to fine over the whole pyramid: the frame may be far from every keyframe.
   TrackerOptions tracker_options = options_.tracker;
   while (tracker_options.levels < options_.pyramid_levels) {
@@ -248,11 +248,11 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
       Aligned& a = aligned[c];
       for (const TrackResult& r : a.results) {
         const SE3d step = r.frame_from_keyframe * map_.keyframe(k).cam_from_world * last_from_world.Inverse();
-        std::string fail = quality_.CheckTracking(r, step, since, a.mean_idepth, k != ref);
+        std::string fail = track_.quality.CheckTracking(r, step, since, a.mean_idepth, k != ref);
         if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))
           sighted = Found{r, k, &a};
         if (fail.empty()) {
-          fail = predicted       ? quality_.CheckJump(step, since, velocity_, a.mean_idepth)
+          fail = predicted       ? track_.quality.CheckJump(step, since, track_.velocity, a.mean_idepth)
                  : !plain.empty() ? plain + ": one frame does not relocalise"
                                   : "lost too long to predict the pose";
         }

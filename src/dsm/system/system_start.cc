@@ -104,10 +104,10 @@ void System::StartMap(const InitResult& init) {
   std::stable_sort(frames_.begin(), frames_.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   // Per frame index (frames dropped while starting count as well).
   const int index_steps = last.index - pending_.front().index;
-  velocity_ = index_steps > 0 ? Scale(kf1_from_kf0, 1.0 / index_steps) : SE3d();
-  last_trusted_index_ = last.index;
-  last_trusted_t_ns_ = last.t_ns;
-  last_exposure_ = last.exposure;
+  track_.velocity = index_steps > 0 ? Scale(kf1_from_kf0, 1.0 / index_steps) : SE3d();
+  track_.last_trusted_index = last.index;
+  track_.last_trusted_t_ns = last.t_ns;
+  track_.exposure = last.exposure;
   pending_.clear();
 }
 
