@@ -128,13 +128,15 @@ DSM_SIMD_CLONES EnergySums SumTEnergy(const float* sw, const float* r, const flo
                                       float t2) {
   // Terms in single precision, sums in double (steps near convergence change the energy by less
   // than a float sum resolves), vectorised: the order of a SIMD reduction is fixed for a build.
+  // The threshold test is the quiet comparison: `rw2 > t2` may trap (a signalling compare), so
+  // GCC keeps it a branch and the whole loop scalar.
   double energy = 0.0, sum_sq = 0.0, bad = 0.0, count = 0.0;
 #pragma omp simd reduction(+ : energy, sum_sq, bad, count)
   for (size_t i = 0; i < n; ++i) {
     const float rw = sw[i] * r[i], rw2 = rw * rw;
     sum_sq += rw2;
     energy += valid[i] * FastLog1p(rw2 * inv);
-    bad += valid[i] * (rw2 > t2 ? 1.f : 0.f);
+    bad += valid[i] * static_cast<float>(__builtin_isgreater(rw2, t2));
     count += valid[i];
   }
   return {energy, sum_sq, bad, count};
