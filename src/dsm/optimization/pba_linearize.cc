@@ -123,12 +123,18 @@ double Problem::PixelEnergy(const PatternValues& residuals, const PatternValues&
     alignas(32) float log_terms[kPatternSize];
     alignas(32) int outlier[kPatternSize];
     const float inv = static_cast<float>(1.0 / (model.nu * model.sigma * model.sigma));
-    const double threshold = model.inlier_threshold;
+    // |r| > threshold (double) for a float |r|: |r| > the largest float at most the threshold (no
+    // float lies between the two). In float and by the quiet comparison the loop vectorises; in
+    // double, or by `>` (which may trap, so GCC keeps it a branch), it ran one pixel at a time.
+    float threshold = static_cast<float>(model.inlier_threshold);
+    if (static_cast<double>(threshold) > model.inlier_threshold) threshold = std::nextafter(threshold, -INFINITY);
+    const float* r_k = residuals.data();
+    const float* s_k = sqrt_weight_g.data();
 #pragma omp simd
     for (int k = 0; k < kPatternSize; ++k) {
-      const float r = sqrt_weight_g[k] * residuals[k];
+      const float r = s_k[k] * r_k[k];
       log_terms[k] = FastLog1p(r * r * inv);
-      outlier[k] = static_cast<double>(std::abs(r)) > threshold;
+      outlier[k] = __builtin_isgreater(std::abs(r), threshold);
     }
     const double scale = 0.5 * (model.nu + 1.0);
     for (int k = 0; k < kPatternSize; ++k) {
