@@ -72,6 +72,12 @@ class Problem {
   Problem(Map* map, const PinholeCamera& camera, const std::vector<int>& active, const std::vector<int>& held,
           const PbaOptions& options);
 
+  // Robust energy of the 8 pixels given sqrt(w_g) per pixel; counts pixels above the inlier
+  // threshold into *bad. The t-distribution's is computed lane-wise (vectorised) with the values
+  // ErrorModel::Energy gives, summed in pixel order.
+  static double PixelEnergy(const PatternValues& residuals, const PatternValues& sqrt_weight_g, const ErrorModel& model,
+                            int* bad);
+
   int NumCameras() const { return static_cast<int>(cams_.size()); }
   int NumFixed() const { return static_cast<int>(std::count(fixed_.begin(), fixed_.end(), true)); }
   int NumPoints() const { return static_cast<int>(points_.size()); }
@@ -157,11 +163,6 @@ class Problem {
   // Fits the error models (pba_models.h) and stores the fitted ones in their keyframes.
   void FitFromChunks(const std::vector<std::vector<std::vector<float>>>& chunk_residuals);
 
-  // Robust energy of the 8 pixels given sqrt(w_g) per pixel; counts pixels above the inlier
-  // threshold into *bad. The t-distribution's is computed lane-wise (vectorised) with the values
-  // ErrorModel::Energy gives, summed in pixel order.
-  static double PixelEnergy(const PatternValues& residuals, const PatternValues& sqrt_weight_g, const ErrorModel& model,
-                            int* bad);
   static PatternValues SqrtOf(const PatternValues& v);
   static double InvalidEnergy(const ErrorModel& model) {
     return kPatternSize * model.Energy(2.0 * model.inlier_threshold);

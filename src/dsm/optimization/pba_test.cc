@@ -3,11 +3,13 @@
 #include "dsm/optimization/pba.h"
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
+#include "dsm/optimization/pba_problem.h"
 #include "dsm/optimization/pba_selection.h"
 #include "dsm/optimization/pba_world.h"
 #include "dsm/synth/renderer.h"
@@ -453,6 +455,35 @@ TEST(Pba, AgreesWithACeresSolveOfTheSameProblem) {
   for (size_t i = 0; i < rho.size(); ++i) rel.push_back(std::abs(ours_rho[i] * s_ours / (rho[i] * s_ceres) - 1.0));
   std::nth_element(rel.begin(), rel.begin() + rel.size() / 2, rel.end());
   EXPECT_LT(rel[rel.size() / 2], 5e-3);
+}
+
+TEST(Pba, PatternEnergyCountsTheOutliersAsTheDoubleThresholdDoes) {
+  // The pattern's energy compares float residuals with the threshold in float: the count must be
+  // that of the double comparison at the threshold's neighbouring floats, whether or not the
+  // threshold is a float itself, and the energy ErrorModel::Energy's, pixel by pixel.
+  for (const double threshold : {15.1, 16.0, 0.7}) {
+    ErrorModel model;
+    model.nu = 3.7;
+    model.sigma = 6.3;
+    model.inlier_threshold = threshold;
+    const float t = static_cast<float>(threshold);
+    internal::PatternValues r = {std::nextafter(t, 0.f), t, std::nextafter(t, 100.f), -std::nextafter(t, 100.f),
+                                 -t, 0.f, 3.f * t, -0.5f * t};
+    internal::PatternValues sqrt_w;
+    sqrt_w.fill(1.f);
+    sqrt_w[7] = 3.f;  // -1.5 t weighted.
+    int expected_bad = 0;
+    double expected_energy = 0.0;
+    for (int k = 0; k < kPatternSize; ++k) {
+      const double rw = static_cast<double>(sqrt_w[k] * r[k]);
+      expected_bad += std::abs(rw) > threshold;
+      expected_energy += model.Energy(rw);
+    }
+    int bad = -1;
+    const double energy = internal::Problem::PixelEnergy(r, sqrt_w, model, &bad);
+    EXPECT_EQ(bad, expected_bad) << "threshold " << threshold;
+    EXPECT_NEAR(energy, expected_energy, 1e-9 * expected_energy) << "threshold " << threshold;
+  }
 }
 
 }  // namespace
