@@ -121,8 +121,9 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   const auto track = [&] {
     result = TrackFrame(index, *pyramid, exposure);
     if (result.brightness_held) ++stats_.brightness_holds;
-    reason = track_.quality.CheckTracking(result, result.frame_from_keyframe * track_.last_frame_from_reference.Inverse(),
-                                    FramesSinceTrusted(index), tracker_->MeanIdepth());
+    reason = track_.quality.CheckTracking(result,
+                                          result.frame_from_keyframe * track_.last_frame_from_reference.Inverse(),
+                                          FramesSinceTrusted(index), tracker_->MeanIdepth());
     // A relocalisation is confirmed by an alignment that found its own way, not by one that fell
     // into the flat prediction and was done again with the brightness held: its pose passes a
     // residual level the relocalisation has just restarted at its own value. It is withdrawn
@@ -250,7 +251,8 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   job.beta = result.beta;
   job.relocalisations = stats_.relocalisations;
   want_keyframe_ = false;
-  if (ShouldCreateKeyframe(scores, options_.keyframe) && track_.quality.CheckKeyframeImage(signature.texture, previous_texture)) {
+  if (ShouldCreateKeyframe(scores, options_.keyframe) &&
+      track_.quality.CheckKeyframeImage(signature.texture, previous_texture)) {
     if (mapping_thread_ && (mapping_thread_->KeyframesPending() > 0 || ReferenceIsStale())) {
       // Another keyframe is in flight, or was published while this frame was tracked against the
       // one before it: a keyframe made from this frame would hang off the older keyframe, next
@@ -354,9 +356,11 @@ void System::UpdateReference(bool wait) {
     // start): its pose and brightness move from the old reference to it.
     // Both keyframes as the new snapshot has them (the bundle adjustment moved both since).
     const int o = reference_->keyframe, n = next->keyframe;
-    track_.last_frame_from_reference = track_.last_frame_from_reference * next->cam_from_world[o] * next->cam_from_world[n].Inverse();
+    track_.last_frame_from_reference =
+        track_.last_frame_from_reference * next->cam_from_world[o] * next->cam_from_world[n].Inverse();
     // Absolute brightness of the last frame, then relative to the new reference.
-    const AffineBrightness f = FrameBrightness(next->affine[o], next->exposure[o], track_.alpha, track_.beta, track_.exposure);
+    const AffineBrightness f =
+        FrameBrightness(next->affine[o], next->exposure[o], track_.alpha, track_.beta, track_.exposure);
     internal::RelativeBrightness(f, track_.exposure, next->affine[n], next->exposure[n], &track_.alpha, &track_.beta);
   } else {
     // The new reference is the keyframe made from the last tracked frame.

@@ -80,7 +80,8 @@ void System::WithdrawRelocalisation() {
 }
 
 bool System::NeedsNewMap() const {
-  return options_.relocalisation.max_lost_frames > 0 && track_.failed_relocalisations >= options_.relocalisation.max_lost_frames;
+  return options_.relocalisation.max_lost_frames > 0 &&
+         track_.failed_relocalisations >= options_.relocalisation.max_lost_frames;
 }
 
 }  // namespace dsm

@@ -26,6 +26,7 @@
 #include "dsm/system/system.h"
 #include "dsm/system/system_internal.h"
 #include "dsm/tracking/frame_tracker.h"
+#include "dsm/util/median.h"
 
 namespace dsm {
 
@@ -106,8 +107,7 @@ bool System::RejoinAfterRelocalisation(int newest) {
   std::vector<float> moved;
   for (size_t i = 0; i < to.size(); ++i)
     if (std::isfinite(from[i].x()) && std::isfinite(to[i].x())) moved.push_back((to[i] - from[i]).norm());
-  std::sort(moved.begin(), moved.end());
-  const float shift_px = moved.empty() ? 0.f : moved[moved.size() / 2];
+  const float shift_px = moved.empty() ? 0.f : Median(moved);
   // The old points must agree with the moved part: most of them consistent in the keyframe
   // (observation_check.h), where few were. And the correction must move them beyond the
   // adjustments' reach: a shift of a few pixels the loops that follow close by themselves, bending
@@ -120,14 +120,16 @@ bool System::RejoinAfterRelocalisation(int newest) {
   for (int j = rejoin_first_; j < map_.NumKeyframes(); ++j)
     if (j != newest) map_.keyframe(j).cam_from_world = map_.keyframe(j).cam_from_world * from_old;
   // The window's judgements at the poses it had: made again by the next adjustments.
-  for (int h : covisible_)
+  for (int h : covisible_) {
+    if (h >= rejoin_first_) continue;
     for (int pid : map_.keyframe(h).points) {
       Point& p = map_.point(pid);
-      if (p.removed || h >= rejoin_first_) continue;
+      if (p.removed) continue;
       for (Observation& ob : p.observations)
         if (ob.target >= rejoin_first_ && std::find(window_.begin(), window_.end(), ob.target) != window_.end())
           ob.outlier = false;
     }
+  }
   SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
   log.rejoined = true;
   log.rejoin_step = step;
