@@ -22,9 +22,12 @@ void MappingThread::Submit(Job job, bool keyframe, Job then) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     RethrowLocked();
-    queue_.push_back({std::move(job), keyframe});
-    if (then) queue_.push_back({std::move(then), false});
-    if (keyframe) keyframe_queue_max_ = std::max(keyframe_queue_max_, ++keyframes_pending_);
+    queue_.push_back({std::move(job), keyframe, keyframe && !then});
+    if (then) queue_.push_back({std::move(then), false, keyframe});
+    if (keyframe) {
+      keyframe_queue_max_ = std::max(keyframe_queue_max_, ++keyframes_pending_);
+      ++keyframes_unsettled_;
+    }
   }
   work_.notify_one();
 }
@@ -32,6 +35,11 @@ void MappingThread::Submit(Job job, bool keyframe, Job then) {
 int MappingThread::KeyframesPending() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return keyframes_pending_;
+}
+
+int MappingThread::KeyframesUnsettled() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return keyframes_unsettled_;
 }
 
 int MappingThread::KeyframeQueueMax() const {
@@ -48,6 +56,13 @@ void MappingThread::WaitForKeyframes() {
 bool MappingThread::WaitForKeyframesUntil(std::chrono::steady_clock::time_point deadline) {
   std::unique_lock<std::mutex> lock(mutex_);
   const bool none = done_.wait_until(lock, deadline, [this] { return keyframes_pending_ == 0 || error_; });
+  RethrowLocked();
+  return none;
+}
+
+bool MappingThread::WaitForSettledKeyframesUntil(std::chrono::steady_clock::time_point deadline) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  const bool none = done_.wait_until(lock, deadline, [this] { return keyframes_unsettled_ == 0 || error_; });
   RethrowLocked();
   return none;
 }
@@ -91,6 +106,7 @@ void MappingThread::Loop() {
     running_ = false;
     if (error && !error_) error_ = error;
     if (entry.keyframe) --keyframes_pending_;
+    if (entry.settles) --keyframes_unsettled_;
     done_.notify_all();
   }
 }

@@ -26,14 +26,19 @@ class MappingThread {
   MappingThread(const MappingThread&) = delete;
   MappingThread& operator=(const MappingThread&) = delete;
 
-  // Queues a job, and `then` (if any) right behind it; `keyframe` jobs are counted until they finish.
+  // Queues a job, and `then` (if any) right behind it; `keyframe` jobs are counted until they
+  // finish (pending), and until their `then` finishes too (unsettled).
   void Submit(Job job, bool keyframe, Job then = nullptr);
   // Keyframe jobs queued or running.
   int KeyframesPending() const;
+  // Keyframe jobs whose job or `then` is queued or running.
+  int KeyframesUnsettled() const;
   // Blocks until no keyframe job is queued or running.
   void WaitForKeyframes();
   // The same, but no later than `deadline`; true when none is left.
   bool WaitForKeyframesUntil(std::chrono::steady_clock::time_point deadline);
+  // No later than `deadline`, until every keyframe is settled; true when none is left.
+  bool WaitForSettledKeyframesUntil(std::chrono::steady_clock::time_point deadline);
   // Blocks until every job handed over has finished. `urgent`: the caller needs the mapping side
   // idle now (a relocalisation); long jobs ask Urgent() and stop early.
   void WaitUntilIdle(bool urgent = false);
@@ -51,10 +56,11 @@ class MappingThread {
   struct Entry {
     Job job;
     bool keyframe;
+    bool settles;  // The last of a keyframe's jobs.
   };
   std::deque<Entry> queue_;
   bool running_ = false, stop_ = false;
-  int keyframes_pending_ = 0, keyframe_queue_max_ = 0;
+  int keyframes_pending_ = 0, keyframes_unsettled_ = 0, keyframe_queue_max_ = 0;
   int urgent_waiters_ = 0;
   std::exception_ptr error_;
   std::thread thread_;

@@ -50,5 +50,29 @@ TEST(MappingThread, AJobsFollowUpRunsRightBehindIt) {
   EXPECT_EQ(thread.KeyframesPending(), 0);
 }
 
+// A keyframe is pending until its job finishes and unsettled until its follow-up does too; a
+// bounded wait for it to settle gives up while the follow-up runs.
+TEST(MappingThread, AKeyframeSettlesWithItsFollowUp) {
+  MappingThread thread;
+  std::promise<void> go;
+  std::shared_future<void> started = go.get_future().share();
+  std::promise<void> published;
+  thread.Submit([&] { published.set_value(); }, /*keyframe=*/true, [started] { started.wait(); });
+  EXPECT_EQ(thread.KeyframesUnsettled(), 1);
+  published.get_future().wait();
+  EXPECT_TRUE(thread.WaitForKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::seconds(60)));
+  EXPECT_EQ(thread.KeyframesPending(), 0);
+  EXPECT_EQ(thread.KeyframesUnsettled(), 1);
+  EXPECT_FALSE(thread.WaitForSettledKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::milliseconds(5)));
+  go.set_value();
+  EXPECT_TRUE(thread.WaitForSettledKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::seconds(60)));
+  EXPECT_EQ(thread.KeyframesUnsettled(), 0);
+  // A keyframe job without a follow-up settles with itself.
+  thread.Submit([] {}, /*keyframe=*/true);
+  EXPECT_TRUE(thread.WaitForSettledKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::seconds(60)));
+  EXPECT_EQ(thread.KeyframesUnsettled(), 0);
+  thread.WaitUntilIdle();
+}
+
 }  // namespace
 }  // namespace dsm

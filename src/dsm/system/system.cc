@@ -137,7 +137,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     const std::shared_ptr<const TrackingReference> before = reference_;
     if (!until) {
       mapping_thread_->WaitForKeyframes();
-    } else if (!mapping_thread_->WaitForKeyframesUntil(*until)) {
+    } else if (!mapping_thread_->WaitForSettledKeyframesUntil(*until)) {
       ++stats_.keyframe_wait_timeouts;
     }
     UpdateReference(false);
@@ -148,10 +148,14 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
     return reference_ != before;
   };
   bool tracked = false;  // `result` and `reason` are this frame's against reference_.
-  if (!wait && wait_until && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
+  if (!wait && wait_until && mapping_thread_ && mapping_thread_->KeyframesUnsettled() > 0) {
     // A frame tracked against the keyframe before the pending one lands further from its
     // reference, and its candidates' traces and the next keyframe with it: it waits until
-    // `wait_until` (run/realtime_wait.h) and is tracked against the newer one. A live camera's
+    // `wait_until` (run/realtime_wait.h) and is tracked against the newer one. It waits for the
+    // adjustments after the keyframe's publication as well (FinishKeyframe: the young map's, the
+    // loop's), which move the keyframe: the sequential run tracks the frame against the adjusted
+    // one, and tracking it against the keyframe as first published was the realtime run's first
+    // difference from the sequential one where the mapping kept up. A live camera's
     // pose does not wait for that: it is tracked against the newest keyframe published first and
     // told (SetPoseListener); the frame's pose the run keeps is the later one.
     ++stats_.keyframe_waits;
