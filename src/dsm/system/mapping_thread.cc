@@ -53,13 +53,6 @@ void MappingThread::WaitForKeyframes() {
   RethrowLocked();
 }
 
-bool MappingThread::WaitForKeyframesUntil(std::chrono::steady_clock::time_point deadline) {
-  std::unique_lock<std::mutex> lock(mutex_);
-  const bool none = done_.wait_until(lock, deadline, [this] { return keyframes_pending_ == 0 || error_; });
-  RethrowLocked();
-  return none;
-}
-
 bool MappingThread::WaitForSettledKeyframesUntil(std::chrono::steady_clock::time_point deadline) {
   std::unique_lock<std::mutex> lock(mutex_);
   const bool none = done_.wait_until(lock, deadline, [this] { return keyframes_unsettled_ == 0 || error_; });

@@ -35,9 +35,7 @@ class MappingThread {
   int KeyframesUnsettled() const;
   // Blocks until no keyframe job is queued or running.
   void WaitForKeyframes();
-  // The same, but no later than `deadline`; true when none is left.
-  bool WaitForKeyframesUntil(std::chrono::steady_clock::time_point deadline);
-  // No later than `deadline`, until every keyframe is settled; true when none is left.
+  // Blocks until every keyframe is settled, but no later than `deadline`; true when none is left.
   bool WaitForSettledKeyframesUntil(std::chrono::steady_clock::time_point deadline);
   // Blocks until every job handed over has finished. `urgent`: the caller needs the mapping side
   // idle now (a relocalisation); long jobs ask Urgent() and stop early.

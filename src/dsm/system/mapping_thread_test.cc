@@ -10,7 +10,8 @@
 namespace dsm {
 namespace {
 
-// A bounded wait gives up while the keyframe job runs, and succeeds once it is done.
+// A bounded wait gives up while the keyframe job runs, and succeeds once it is done (a keyframe
+// job without a follow-up settles with itself).
 TEST(MappingThread, BoundedWaitForKeyframes) {
   MappingThread thread;
   std::promise<void> go;
@@ -18,13 +19,14 @@ TEST(MappingThread, BoundedWaitForKeyframes) {
   thread.Submit([started] { started.wait(); }, /*keyframe=*/true);
   thread.Submit([] {}, /*keyframe=*/false);
   EXPECT_EQ(thread.KeyframesPending(), 1);
-  EXPECT_FALSE(thread.WaitForKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::milliseconds(5)));
+  EXPECT_FALSE(thread.WaitForSettledKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::milliseconds(5)));
   EXPECT_EQ(thread.KeyframesPending(), 1);
   go.set_value();
-  EXPECT_TRUE(thread.WaitForKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::seconds(60)));
+  EXPECT_TRUE(thread.WaitForSettledKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::seconds(60)));
   EXPECT_EQ(thread.KeyframesPending(), 0);
+  EXPECT_EQ(thread.KeyframesUnsettled(), 0);
   // Nothing pending: true at once, even with a deadline already past.
-  EXPECT_TRUE(thread.WaitForKeyframesUntil(std::chrono::steady_clock::now() - std::chrono::seconds(1)));
+  EXPECT_TRUE(thread.WaitForSettledKeyframesUntil(std::chrono::steady_clock::now() - std::chrono::seconds(1)));
   thread.WaitUntilIdle();
 }
 
@@ -60,15 +62,11 @@ TEST(MappingThread, AKeyframeSettlesWithItsFollowUp) {
   thread.Submit([&] { published.set_value(); }, /*keyframe=*/true, [started] { started.wait(); });
   EXPECT_EQ(thread.KeyframesUnsettled(), 1);
   published.get_future().wait();
-  EXPECT_TRUE(thread.WaitForKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::seconds(60)));
+  thread.WaitForKeyframes();
   EXPECT_EQ(thread.KeyframesPending(), 0);
   EXPECT_EQ(thread.KeyframesUnsettled(), 1);
   EXPECT_FALSE(thread.WaitForSettledKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::milliseconds(5)));
   go.set_value();
-  EXPECT_TRUE(thread.WaitForSettledKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::seconds(60)));
-  EXPECT_EQ(thread.KeyframesUnsettled(), 0);
-  // A keyframe job without a follow-up settles with itself.
-  thread.Submit([] {}, /*keyframe=*/true);
   EXPECT_TRUE(thread.WaitForSettledKeyframesUntil(std::chrono::steady_clock::now() + std::chrono::seconds(60)));
   EXPECT_EQ(thread.KeyframesUnsettled(), 0);
   thread.WaitUntilIdle();
