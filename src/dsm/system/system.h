@@ -293,9 +293,11 @@ class System {
   bool Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
                   const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason);
   // Relocalise's keyframes to align with: the reference first, then up to
-  // relocalisation.candidates keyframes; `frame_features`: the frame's ORB features.
+  // relocalisation.candidates keyframes; `frame_features`: the frame's ORB features; `matches`:
+  // theirs with each candidate but the reference (MatchFeatures).
   std::vector<int> RelocalisationCandidates(const ImagePyramid& pyramid, const FrameSignature& signature, int ref,
-                                            OrbFeatures* frame_features);
+                                            OrbFeatures* frame_features,
+                                            std::map<int, std::vector<cv::DMatch>>* matches);
   // Relocalise's starting poses of frame `index` relative to keyframe k: the features' pose, `still`
   // (the last trusted pose relative to k) and it moved by each of `motions`, each also turned
   // about x and y, k's own pose (k not the reference), and from `first_sighted` on the sightings'.

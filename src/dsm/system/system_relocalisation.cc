@@ -17,13 +17,16 @@
 // the last two. The coarse energy ranks them; the best two and the sightings' are aligned coarse
 // to fine over the whole pyramid (the frame may be far from every keyframe), and the passing
 // result with the smallest median residual wins. The features (each keyframe's
-// computed once, kept in keyframe_features_), their matches and the candidates' alignments run
-// in parallel on both cores: the mapping side waits while the camera is lost.
+// computed once, kept in keyframe_features_), their matches (made once: those that rank a keyframe
+// also give its PnP pose) and the candidates' alignments run in parallel on both cores: the mapping
+// side waits while the camera is lost.
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <optional>
+#include <tuple>
 
 #include <tbb/parallel_for.h>
 
@@ -74,7 +77,8 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
 }
 
 std::vector<int> System::RelocalisationCandidates(const ImagePyramid& pyramid, const FrameSignature& signature, int ref,
-                                                 OrbFeatures* frame_features) {
+                                                 OrbFeatures* frame_features,
+                                                 std::map<int, std::vector<cv::DMatch>>* matches) {
   // The reference, then the keyframes with the most feature matches among the kPool most alike by
   // thumbnail (a thumbnail alone ranks poorly after a large change of view). The keyframes'
   // features are computed on first use, in parallel with the frame's.
@@ -97,15 +101,21 @@ std::vector<int> System::RelocalisationCandidates(const ImagePyramid& pyramid, c
       detected[i] = DetectOrbFeatures(map_.keyframe(unknown[i]).Level0(), {});
   });
   for (size_t i = 0; i < unknown.size(); ++i) keyframe_features_.emplace(unknown[i], std::move(detected[i]));
-  std::vector<std::pair<int, int>> matched(pool);  // (-matches, keyframe)
+  std::vector<std::vector<cv::DMatch>> pool_matches(pool);
+  std::vector<std::tuple<int, int, int>> matched(pool);  // (-matches, keyframe, pool index)
   tbb::parallel_for(0, pool, [&](int i) {
     const int k = similar[i].second;
-    matched[i] = {-CountFeatureMatches(*frame_features, keyframe_features_.at(k), {}), k};
+    pool_matches[i] = MatchFeatures(*frame_features, keyframe_features_.at(k), {});
+    matched[i] = {-static_cast<int>(pool_matches[i].size()), k, i};
   });
   const int n = std::min<int>(options_.relocalisation.candidates, static_cast<int>(matched.size()));
   std::partial_sort(matched.begin(), matched.begin() + n, matched.end());
   std::vector<int> candidates = {ref};
-  for (int i = 0; i < n; ++i) candidates.push_back(matched[i].second);
+  for (int i = 0; i < n; ++i) {
+    const auto [count, k, in_pool] = matched[i];
+    candidates.push_back(k);
+    (*matches)[k] = std::move(pool_matches[in_pool]);
+  }
   return candidates;
 }
 
@@ -160,7 +170,8 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   }
 
   OrbFeatures frame_features;
-  const std::vector<int> candidates = RelocalisationCandidates(pyramid, signature, ref, &frame_features);
+  std::map<int, std::vector<cv::DMatch>> matches;
+  const std::vector<int> candidates = RelocalisationCandidates(pyramid, signature, ref, &frame_features, &matches);
 
   // Each candidate keyframe's alignments: the two guesses of lowest coarse energy, refined, and
   // the sightings' whatever their coarse energy. The parallel stages write each result to its own
@@ -188,8 +199,11 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     FrameTracker& tracker = *out.tracker;
     tracker.SetReference(out.pyramid.get(), camera_, out.points);
     out.mean_idepth = tracker.MeanIdepth();
+    const auto m = matches.find(k);
     const FeaturePose feature_pose =
-        EstimateFeaturePose(frame_features, keyframe_features_.at(k), out.points, camera_, {});
+        m != matches.end()
+            ? EstimateFeaturePose(frame_features, keyframe_features_.at(k), m->second, out.points, camera_, {})
+            : EstimateFeaturePose(frame_features, keyframe_features_.at(k), out.points, camera_, {});
     size_t first_sighted = 0;
     const std::vector<SE3d> guesses = RelocalisationGuesses(
         index, k, last_from_world * kf.cam_from_world.Inverse(), {half, moved}, feature_pose, &first_sighted);

@@ -165,19 +165,22 @@ std::vector<cv::DMatch> MatchFeaturesBruteForce(const OrbFeatures& frame, const 
   return good;
 }
 
-int CountFeatureMatches(const OrbFeatures& frame, const OrbFeatures& keyframe, const FeaturePoseOptions& options) {
-  return static_cast<int>(MatchFeatures(frame, keyframe, options).size());
-}
-
 FeaturePose EstimateFeaturePose(const OrbFeatures& frame, const OrbFeatures& keyframe,
                                 const std::vector<ReferencePoint>& points, const PinholeCamera& camera,
                                 const FeaturePoseOptions& options) {
+  if (points.empty()) return FeaturePose();
+  return EstimateFeaturePose(frame, keyframe, MatchFeatures(frame, keyframe, options), points, camera, options);
+}
+
+FeaturePose EstimateFeaturePose(const OrbFeatures& frame, const OrbFeatures& keyframe,
+                                const std::vector<cv::DMatch>& matches, const std::vector<ReferencePoint>& points,
+                                const PinholeCamera& camera, const FeaturePoseOptions& options) {
   FeaturePose pose;
   if (points.empty()) return pose;
   const PointGrid grid(points, options.max_depth_px);
   std::vector<cv::Point3f> object;
   std::vector<cv::Point2f> image;
-  for (const cv::DMatch& m : MatchFeatures(frame, keyframe, options)) {
+  for (const cv::DMatch& m : matches) {
     const cv::Point2f& u = keyframe.keypoints[m.trainIdx].pt;
     const int p = grid.Nearest(u.x, u.y, options.max_depth_px);
     if (p < 0) continue;

@@ -57,10 +57,12 @@ std::vector<cv::DMatch> MatchFeatures(const OrbFeatures& frame, const OrbFeature
 std::vector<cv::DMatch> MatchFeaturesBruteForce(const OrbFeatures& frame, const OrbFeatures& keyframe,
                                                 const FeaturePoseOptions& options);
 
-// The number of MatchFeatures (it ranks relocalisation candidates).
-int CountFeatureMatches(const OrbFeatures& frame, const OrbFeatures& keyframe, const FeaturePoseOptions& options);
-
-// `points`: the keyframe's map points (level-0 pixel and inverse depth in the keyframe).
+// `points`: the keyframe's map points (level-0 pixel and inverse depth in the keyframe); `matches`:
+// MatchFeatures(frame, keyframe, options), made by the caller when it has them already (their
+// number ranks relocalisation candidates).
+FeaturePose EstimateFeaturePose(const OrbFeatures& frame, const OrbFeatures& keyframe,
+                                const std::vector<cv::DMatch>& matches, const std::vector<ReferencePoint>& points,
+                                const PinholeCamera& camera, const FeaturePoseOptions& options);
 FeaturePose EstimateFeaturePose(const OrbFeatures& frame, const OrbFeatures& keyframe,
                                 const std::vector<ReferencePoint>& points, const PinholeCamera& camera,
                                 const FeaturePoseOptions& options);
