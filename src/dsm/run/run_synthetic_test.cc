@@ -13,6 +13,7 @@
 // runs give identical output;
 // the two-thread paces keep the sequential accuracy.
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <sstream>
 
@@ -252,19 +253,27 @@ TEST(Run, TruthBundleAdjustmentEndsNearTheTruePoses) {
             ReadFile(dir.parent_path() / "truth_ba" / "keyframes.tum"));
 }
 
-// The two-thread paces: every frame tracked (free) or tracked or dropped (realtime), the pace and
-// timing keys written, and the accuracy of the sequential run kept within a small margin.
-TEST(Run, ThreadedPacesKeepTheSequentialAccuracy) {
-  const fs::path dir = Render("loop", 200);  // The first third of the full loop.
+// The rendering in `dir` run at each of `paces`, one after the other, into pace_<name> beside it.
+std::map<Pace, RunSummary> RunPaces(const fs::path& dir, std::initializer_list<Pace> paces) {
   const Dataset dataset = OpenDataset(dir);
   std::map<Pace, RunSummary> runs;
-  for (const Pace pace : {Pace::kSequential, Pace::kFree, Pace::kRealtime}) {
+  for (const Pace pace : paces) {
     RunOptions options;
     options.pace = pace;
     options.quiet = true;
     runs[pace] = RunDataset(dataset, options, dir.parent_path() / ("pace_" + PaceName(pace)));
-    const nlohmann::json& stats = runs[pace].stats;
-    std::printf("%s: %s, latency p90 %.1f ms, %d dropped\n", PaceName(pace).c_str(), runs[pace].line.c_str(),
+  }
+  return runs;
+}
+
+// The two-thread paces: every frame tracked (free) or tracked or dropped (realtime), the pace and
+// timing keys written, and the accuracy of the sequential run kept within a small margin.
+TEST(Run, ThreadedPacesKeepTheSequentialAccuracy) {
+  const fs::path dir = Render("loop", 200);  // The first third of the full loop.
+  std::map<Pace, RunSummary> runs = RunPaces(dir, {Pace::kSequential, Pace::kFree, Pace::kRealtime});
+  for (const auto& [pace, run] : runs) {
+    const nlohmann::json& stats = run.stats;
+    std::printf("%s: %s, latency p90 %.1f ms, %d dropped\n", PaceName(pace).c_str(), run.line.c_str(),
                 stats["latency_ms"]["p90"].get<double>(), stats["frames_dropped"].get<int>());
     EXPECT_EQ(stats["pace"], PaceName(pace));
     EXPECT_EQ(stats["frames"].get<int>() + stats["frames_dropped"].get<int>(), 200);
@@ -275,7 +284,7 @@ TEST(Run, ThreadedPacesKeepTheSequentialAccuracy) {
     for (const char* q : {"median", "p90", "max"})
       EXPECT_LE(stats["latency_ms"][q].get<double>(), stats["latency_final_ms"][q].get<double>()) << q;
     EXPECT_LE(stats["frames_posed_before_wait"].get<int>(), stats["keyframe_waits"].get<int>());
-    ASSERT_TRUE(runs[pace].eval.has_value());
+    ASSERT_TRUE(run.eval.has_value());
   }
   EXPECT_EQ(runs[Pace::kSequential].stats["keyframe_queue_max"].get<int>(), 0);
   EXPECT_EQ(runs[Pace::kSequential].stats["frames_posed_before_wait"].get<int>(), 0);
@@ -308,14 +317,7 @@ TEST(Run, ThreadedPacesKeepTheSequentialAccuracy) {
 // was still moving made `pan` 0.46 mm in four of five realtime runs, against 0.39 sequential.
 TEST(Run, RealtimeIsTheSequentialRunWhereTheMappingKeepsUp) {
   const fs::path dir = Render("pan", 130);
-  const Dataset dataset = OpenDataset(dir);
-  std::map<Pace, RunSummary> runs;
-  for (const Pace pace : {Pace::kSequential, Pace::kRealtime}) {
-    RunOptions options;
-    options.pace = pace;
-    options.quiet = true;
-    runs[pace] = RunDataset(dataset, options, dir.parent_path() / ("pace_" + PaceName(pace)));
-  }
+  std::map<Pace, RunSummary> runs = RunPaces(dir, {Pace::kSequential, Pace::kRealtime});
   const nlohmann::json& stats = runs[Pace::kRealtime].stats;
   const int dropped = stats["frames_dropped"].get<int>(), timeouts = stats["keyframe_wait_timeouts"].get<int>();
   std::printf("realtime: %s, %d waits, %d ended at their deadline, %d dropped\n", runs[Pace::kRealtime].line.c_str(),
