@@ -28,6 +28,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["system.smoothing_auto_sigma"] = Set(&o->smoothing_auto_sigma);
   s["system.interpolation"] = Set(&o->interpolation);
   s["system.bspline_min_noise"] = Set(&o->bspline_min_noise);
+  s["system.texture_loss_min_noise"] = Set(&o->texture_loss_min_noise);
   s["system.young_map_ba_first"] = Set(&o->young_map_ba_first);
   s["system.young_map_ba_last"] = Set(&o->young_map_ba_last);
   s["system.young_map_ba_step"] = Set(&o->young_map_ba_step);
@@ -124,6 +125,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["pba.texture_loss_ratio"] = Set(&o->pba.texture_loss.max_variance_ratio);
   s["pba.texture_min_host_variance"] = Set(&o->pba.texture_loss.min_host_variance);
   s["pba.texture_max_depth_ratio"] = Set(&o->pba.texture_loss.max_depth_ratio);
+  s["pba.texture_loss_in_energy"] = Set(&o->pba.texture_loss.in_energy);
   // The robust function applies to the bundle adjustment and the tracker alike.
   s["robust.function"] = [o](const YAML::Node& n) {
     const RobustKind kind = ParseRobustKind(n.as<std::string>(), "robust.function");

@@ -54,7 +54,8 @@ struct PbaOptions {
   double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
   // With texture_loss.max_variance_ratio > 0 (off by default), an observation whose target shows
   // no trace of the host's texture (texture_loss.h) at the finest level takes no part there:
-  // weight 0, left out of the error models' fit, and removed after the PBA.
+  // left out of the error models' fit, removed after the PBA, and with texture_loss.in_energy
+  // given weight 0 as well.
   TextureLossOptions texture_loss;
   // A keyframe's fitted scale sigma is at most this many times the median over the problem's
   // keyframes (0: unbounded; see RunPba).

@@ -457,6 +457,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"smoothing_sigma", s.smoothing_sigma},
       {"contrast_floor", s.contrast_floor},
       {"interpolation", s.interpolation},
+      {"texture_loss", s.texture_loss},
       {"points_created", s.points_created},
       {"reobservations", s.reobservations},
       {"covisible_keyframes_selected", s.covisible_keyframes_selected},

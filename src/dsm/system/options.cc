@@ -38,6 +38,7 @@ void SystemOptions::Validate() const {
   if (interpolation != "auto" && interpolation != "bilinear" && interpolation != "bspline")
     throw InputError("system.interpolation must be auto, bilinear or bspline, not '" + interpolation + "'");
   if (!(bspline_min_noise >= 0.0)) throw InputError("system.bspline_min_noise must be non-negative");
+  if (!(texture_loss_min_noise >= 0.0)) throw InputError("system.texture_loss_min_noise must be non-negative");
   if (young_map_ba_first < 2) throw InputError("system.young_map_ba_first must be at least 2");
   if (young_map_ba_last < 0) throw InputError("system.young_map_ba_last must be non-negative (0: none)");
   if (young_map_ba_step < 0) throw InputError("system.young_map_ba_step must be non-negative (0: doubling)");

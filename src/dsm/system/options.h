@@ -91,6 +91,14 @@ struct SystemOptions {
   // ripple is 100x weaker and the B-spline's blur and cost buy nothing). README, Interpolation.
   std::string interpolation = "auto";
   double bspline_min_noise = 2.5;
+  // The bundle adjustment's texture-loss test (texture_loss.h) in --mode dsm, when
+  // pba.texture_loss_ratio is 0 (not set) and the first frame's noise level reaches this many grey
+  // levels (render noise, as bspline_min_noise; 0: never): at kTextureLossRatio, judging the
+  // error models' fit and the removal after the adjustment only (texture_loss.in_energy false).
+  // On noisy images a point seen through a plain near surface widens its target's error model
+  // the most (README: Texture loss). Not in --mode sw, which has no persistent map to re-observe
+  // a removed observation's point from, nor on camera images (EuRoC 0.47 grey levels).
+  double texture_loss_min_noise = 2.5;
   // Bundle adjustments of the whole young map (--mode dsm): every keyframe but the first free,
   // when the map reaches young_map_ba_first keyframes, then twice, four times as many, ..., up to
   // young_map_ba_last (0: none), each after the keyframe is published (System::FinishKeyframe; it

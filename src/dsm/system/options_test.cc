@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/system/options.h"
 
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "dsm/util/check.h"
@@ -55,6 +57,19 @@ TEST(SystemOptions, RejectsAYoungMapScheduleThatNeverGrows) {
   EXPECT_NO_THROW(options.Validate());
   options.young_map_ba_step = -1;
   EXPECT_THROW(options.Validate(), InputError);
+}
+
+TEST(SystemOptions, RejectsANegativeNoiseLevelForTheTextureLossTest) {
+  SystemOptions options;
+  options.texture_loss_min_noise = -1.0;
+  try {
+    options.Validate();
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("system.texture_loss_min_noise"), std::string::npos) << e.what();
+  }
+  options.texture_loss_min_noise = 0.0;  // Never.
+  EXPECT_NO_THROW(options.Validate());
 }
 
 TEST(SystemOptions, RejectsALoopAdjustmentWithoutABound) {

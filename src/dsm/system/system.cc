@@ -82,6 +82,13 @@ void System::ChooseNoiseHandling(const Image<float>& first) {
                        (options_.interpolation == "auto" && stats_.image_noise_sigma >= options_.bspline_min_noise);
   map_.set_interpolation(bspline ? Interpolation::kBSpline : Interpolation::kBilinear);
   stats_.interpolation = bspline ? "bspline" : "bilinear";
+  TextureLossOptions& texture = options_.pba.texture_loss;
+  if (texture.max_variance_ratio == 0.0 && options_.mode == MapMode::kFull && options_.texture_loss_min_noise > 0.0 &&
+      stats_.image_noise_sigma >= options_.texture_loss_min_noise) {
+    texture.max_variance_ratio = kTextureLossRatio;
+    texture.in_energy = false;
+  }
+  stats_.texture_loss = texture.max_variance_ratio > 0.0;
 }
 
 FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms,

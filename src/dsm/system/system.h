@@ -79,6 +79,7 @@ struct SystemStats {
   double smoothing_sigma = -1.0;    // Gaussian smoothing applied to every frame, pixels (0: none).
   bool contrast_floor = false;      // Candidates kept off patterns at the noise's contrast.
   std::string interpolation = "bilinear";  // How the residuals sample images: bilinear | bspline.
+  bool texture_loss = false;  // The bundle adjustment's texture-loss test is on (options.h).
   std::vector<double> tracking_ms;  // Per tracked frame: its pyramid and alignment.
   std::vector<double> tracing_ms;   // Per tracked frame: candidate tracing (mapping side).
   std::vector<double> mapping_ms;   // Per keyframe: everything the mapping side does to it.
