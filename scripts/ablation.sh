@@ -18,7 +18,8 @@
 #            also where the gradient is at the image noise's level), no-contrast-floor (candidates
 #            also where the 8-pixel pattern's contrast is at the noise's level), bilinear (residuals
 #            sample noisy images bilinearly, not by the B-spline), texture-loss (observations
-#            whose target shows no trace of the point's texture leave the bundle adjustment),
+#            whose target shows no trace of the point's texture leave the bundle adjustment, on
+#            any image), no-texture-loss (not even in the fits on noisy images, the default there),
 #            two-view (the initialiser re-tracks its corners from the reference image and refines
 #            RANSAC's motion on all inliers),
 #            free-sigma (each keyframe's error model fitted without the bound on its scale),
@@ -40,7 +41,7 @@ cd "$(dirname "$0")/.."
 JOBS=1
 SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure orbit euroc room"
-CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor no-contrast-floor bilinear texture-loss two-view free-sigma smooth newest-model no-young-ba"
+CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor no-contrast-floor bilinear texture-loss no-texture-loss two-view free-sigma smooth newest-model no-young-ba"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -69,6 +70,7 @@ printf 'candidates:\n  noise_factor: 0\n' > "$WORK/no-noise-floor.yaml"
 printf 'candidates:\n  contrast_factor: 0\n' > "$WORK/no-contrast-floor.yaml"
 printf 'system:\n  interpolation: bilinear\n' > "$WORK/bilinear.yaml"
 printf 'pba:\n  texture_loss_ratio: 0.25\n' > "$WORK/texture-loss.yaml"
+printf 'system:\n  texture_loss_min_noise: 0\n' > "$WORK/no-texture-loss.yaml"
 printf 'initializer:\n  track_from_reference: true\n  refine_motion: true\n' > "$WORK/two-view.yaml"
 printf 'pba:\n  max_sigma_ratio: 0\n' > "$WORK/free-sigma.yaml"
 printf 'system:\n  smoothing_sigma: -1\n' > "$WORK/smooth.yaml"
@@ -88,7 +90,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | texture-loss | two-view | free-sigma | smooth | newest-model | no-young-ba) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | texture-loss | no-texture-loss | two-view | free-sigma | smooth | newest-model | no-young-ba) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac
