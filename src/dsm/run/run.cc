@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <thread>
@@ -16,6 +17,7 @@
 #include "dsm/io/trajectory_io.h"
 #include "dsm/report/report.h"
 #include "dsm/run/debug_writer.h"
+#include "dsm/run/frame_backlog.h"
 #include "dsm/run/frame_reader.h"
 #include "dsm/run/interrupt.h"
 #include "dsm/run/live_view.h"
@@ -343,6 +345,53 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     progress.Update(shown);
     if (live) live->Frame(map_set.current(), shown, per_frame, s.map);
   };
+  // Frame i handed to the maps, its latencies and events; `first_pose` told before (Preview).
+  const auto take = [&](int i, const Image<float>& image, std::chrono::steady_clock::time_point released,
+                        std::optional<std::chrono::steady_clock::time_point> taken,
+                        std::optional<std::chrono::steady_clock::time_point> wait_until,
+                        std::optional<std::chrono::steady_clock::time_point> first_pose) {
+    first_posed = first_pose;
+    const std::vector<MapSet::Settled> settled =
+        map_set.Process(i, dataset.frames[i].t_ns, image, dataset.frames[i].exposure_ms, wait_until);
+    const auto posed = std::chrono::steady_clock::now();
+    latency_ms.push_back(std::chrono::duration<double, std::milli>(first_posed.value_or(posed) - released).count());
+    latency_final_ms.push_back(std::chrono::duration<double, std::milli>(posed - released).count());
+    const FrameReport* r = nullptr;  // This frame's, when settled now.
+    for (const MapSet::Settled& st : settled)
+      if (st.report.index == i) r = &st.report;
+    if (first_pose || (r && r->posed_before_wait)) ++posed_before_wait;
+    if (taken) {
+      const double busy = r && r->wait_end
+                              ? std::chrono::duration<double, std::milli>(posed - *r->wait_end).count()
+                              : std::chrono::duration<double, std::milli>(posed - *taken).count() - (r ? r->wait_ms : 0.0);
+      // The target bounds the waits: the kept pose's latency.
+      realtime_wait.Record(latency_final_ms.back(), busy,
+                           std::chrono::duration<double, std::milli>(first_posed.value_or(posed) - *taken).count());
+    }
+    for (const MapSet::Settled& st : settled) settle(st);
+    if (map_set.current().NeedsNewMap() && i + 1 < end) {
+      // Relocalisation keeps failing: the camera is somewhere new. Another map starts with the
+      // next frames; this one is suspended, and resumes if the camera comes back (map_set.h).
+      map_set.StartNewMap();
+      progress.Event("frame " + std::to_string(i) + "  new map " + std::to_string(map_set.current_id()) +
+                     " (relocalisation kept failing)");
+    }
+  };
+  // Realtime: the waiting frames in order, each once the mapping side has settled, until `deadline`
+  // (none: all of them, the run ended); one that waited too long at once (frame_backlog.h).
+  FrameBacklog backlog;
+  const auto drain = [&](std::optional<std::chrono::steady_clock::time_point> deadline) {
+    while (!backlog.frames.empty()) {
+      const auto now = std::chrono::steady_clock::now();
+      if (deadline && now >= *deadline) return;
+      const WaitingFrame& w = backlog.frames.front();
+      const bool overdue = std::chrono::duration<double, std::milli>(now - w.released).count() > FrameBacklog::kMaxWaitMs;
+      if (!overdue && !map_set.current().WaitSettled(deadline.value_or(now + std::chrono::hours(1)))) return;
+      backlog.overdue += overdue;
+      take(w.index, w.image, w.released, w.taken, deadline, w.first_posed);
+      backlog.frames.pop_front();
+    }
+  };
   for (int i = options.start; i < end; ++i) {
     interrupt_signal = InterruptSignal();
     if (interrupt_signal != 0) break;
@@ -370,38 +419,28 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       continue;
     }
     if (reader) released = std::chrono::steady_clock::now();
-    std::optional<std::chrono::steady_clock::time_point> wait_until;
-    if (taken) {
-      wait_until = realtime_wait.Deadline(released, i + 1 < end ? std::optional(release(i + 1)) : std::nullopt,
-                                          i + 2 < end ? std::optional(release(i + 2)) : std::nullopt);
+    if (!taken) {
+      take(i, frame.image, released, std::nullopt, std::nullopt, std::nullopt);
+      continue;
+    }
+    const auto deadline = realtime_wait.Deadline(released, i + 1 < end ? std::optional(release(i + 1)) : std::nullopt,
+                                                 i + 2 < end ? std::optional(release(i + 2)) : std::nullopt);
+    // A latency target bounds the kept pose's latency instead: no frame waits in the backlog.
+    const bool settled = !std::isinf(options.realtime_latency_target_ms) ||
+                         map_set.current().WaitSettled(std::chrono::steady_clock::now());
+    if (backlog.frames.empty() && settled) {
+      take(i, frame.image, released, taken, deadline, std::nullopt);
+      continue;
     }
     first_posed.reset();
-    const std::vector<MapSet::Settled> settled =
-        map_set.Process(i, dataset.frames[i].t_ns, frame.image, dataset.frames[i].exposure_ms, wait_until);
-    const auto posed = std::chrono::steady_clock::now();
-    latency_ms.push_back(std::chrono::duration<double, std::milli>(first_posed.value_or(posed) - released).count());
-    latency_final_ms.push_back(std::chrono::duration<double, std::milli>(posed - released).count());
-    const FrameReport* r = nullptr;  // This frame's, when settled now.
-    for (const MapSet::Settled& st : settled)
-      if (st.report.index == i) r = &st.report;
-    if (r) posed_before_wait += r->posed_before_wait;
-    if (taken) {
-      const double busy = r && r->wait_end
-                              ? std::chrono::duration<double, std::milli>(posed - *r->wait_end).count()
-                              : std::chrono::duration<double, std::milli>(posed - *taken).count() - (r ? r->wait_ms : 0.0);
-      // The target bounds the waits: the kept pose's latency.
-      realtime_wait.Record(latency_final_ms.back(), busy,
-                           std::chrono::duration<double, std::milli>(first_posed.value_or(posed) - *taken).count());
-    }
-    for (const MapSet::Settled& st : settled) settle(st);
-    if (map_set.current().NeedsNewMap() && i + 1 < end) {
-      // Relocalisation keeps failing: the camera is somewhere new. Another map starts with the
-      // next frames; this one is suspended, and resumes if the camera comes back (map_set.h).
-      map_set.StartNewMap();
-      progress.Event("frame " + std::to_string(i) + "  new map " + std::to_string(map_set.current_id()) +
-                     " (relocalisation kept failing)");
-    }
+    map_set.current().Preview(i, frame.image, dataset.frames[i].exposure_ms);
+    backlog.frames.push_back({i, frame.image, released, *taken, first_posed});
+    ++backlog.deferred;
+    backlog.max_size = std::max(backlog.max_size, backlog.frames.size());
+    // No later than the next frame's release either: its first pose (Preview) comes first.
+    drain(i + 1 < end ? std::min(deadline, release(i + 1)) : deadline);
   }
+  drain(std::nullopt);
   for (const MapSet::Settled& st : map_set.Flush()) settle(st);
   progress.Finish();
   map_set.current().Finish();
@@ -485,6 +524,9 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["traces_skipped"] = s.traces_skipped;
   summary.stats["brightness_holds"] = s.brightness_holds;
   summary.stats["frames_posed_before_wait"] = posed_before_wait;
+  summary.stats["frames_deferred"] = backlog.deferred;
+  summary.stats["frames_overdue"] = backlog.overdue;
+  summary.stats["backlog_max"] = backlog.max_size;
   summary.stats["pyramids_rebuilt"] = s.pyramids_rebuilt;
   summary.stats["pyramids_loaded_max"] = s.pyramids_loaded_max;
   summary.stats["processing_s"] = process_s;

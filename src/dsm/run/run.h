@@ -40,10 +40,12 @@ struct RunOptions {
   bool quiet = false;  // No progress and no event lines on stdout.
   // Progress (progress.h) when stdout is not a terminal: a line every this many seconds.
   double progress_interval_s = 10.0;
-  // Realtime pace: frames wait for a keyframe still being mapped (System::Process wait_until)
-  // until the next frame comes, never so long that a frame is dropped, and, with a finite target,
-  // while all but a few keep their latency within it (realtime_wait.h). 0: never wait (frames
-  // track against the previous keyframe).
+  // Realtime pace: a frame that comes while the mapping side is busy is told a first pose at once
+  // and waits, with the frames after it, until the mapping side has settled (frame_backlog.h). With
+  // a finite target instead, a frame waits for a keyframe still being mapped (System::Process
+  // wait_until) until the next frame comes, never so long that a frame is dropped, and while all
+  // but a few keep their latency within it (realtime_wait.h). 0: never wait (frames track against
+  // the previous keyframe).
   double realtime_latency_target_ms = std::numeric_limits<double>::infinity();
   bool global_ba = false;  // One bundle adjustment of the whole map after the last frame.
   // Diagnostic, with ground truth: after the outputs are written, the whole map is bundle-adjusted

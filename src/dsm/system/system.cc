@@ -91,6 +91,24 @@ void System::ChooseNoiseHandling(const Image<float>& first) {
   stats_.texture_loss = texture.max_variance_ratio > 0.0;
 }
 
+const Image<float>& System::Smoothed(const Image<float>& input, Image<float>* storage) const {
+  if (stats_.smoothing_sigma <= 0.0) return input;
+  *storage = GaussianSmooth(input, static_cast<float>(stats_.smoothing_sigma));
+  return *storage;
+}
+
+bool System::WaitSettled(std::chrono::steady_clock::time_point until) const {
+  return !mapping_thread_ || mapping_thread_->WaitForSettledKeyframesUntil(until);
+}
+
+void System::Preview(int index, const Image<float>& input, double exposure_ms) const {
+  if (!reference_ || lost_ || !pose_listener_ || stats_.smoothing_sigma < 0.0) return;
+  Image<float> smoothed;
+  const ImagePyramid pyramid(Smoothed(input, &smoothed), options_.pyramid_levels, /*gradients=*/false);
+  const TrackResult result = TrackFrame(index, pyramid, exposure_ms > 0.0 ? exposure_ms : 1.0);
+  if (result.ok) pose_listener_(index, WorldFromCam(result.frame_from_keyframe));
+}
+
 FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms,
                             std::optional<std::chrono::steady_clock::time_point> wait_until) {
   DSM_CHECK(input.width() == camera_.width && input.height() == camera_.height, "frame size differs from the camera");
@@ -99,9 +117,8 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   NoteTimestamp(index, t_ns);
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
   if (stats_.smoothing_sigma < 0.0) ChooseNoiseHandling(input);
-  const Image<float> smoothed =
-      stats_.smoothing_sigma > 0.0 ? GaussianSmooth(input, static_cast<float>(stats_.smoothing_sigma)) : Image<float>();
-  const Image<float>& image = stats_.smoothing_sigma > 0.0 ? smoothed : input;
+  Image<float> smoothed;
+  const Image<float>& image = Smoothed(input, &smoothed);
   if (!reference_) return Initialize(index, t_ns, image, exposure);
 
   // After a relocalisation the reference is an older keyframe: even a live camera waits for the

@@ -166,6 +166,16 @@ class System {
   // frame is then lost although a pose was told). A live application takes its poses here.
   using PoseListener = std::function<void(int index, const SE3d& world_from_cam)>;
   void SetPoseListener(PoseListener listener) { pose_listener_ = std::move(listener); }
+  // Threaded: waits until the mapping side has settled every keyframe handed to it (mapped, and
+  // the young map's or loop adjustment after its publication done), but no later than `until`;
+  // true when none is left (sequential: always). The realtime pace takes a frame only then, so that
+  // it is tracked as in the sequential run (run/frame_backlog.h).
+  bool WaitSettled(std::chrono::steady_clock::time_point until) const;
+  // Tells the pose listener a provisional pose of frame `index`, tracked against the keyframe the
+  // tracking side holds from the last frame Process kept, and changes nothing: for a frame that
+  // Process takes later (the realtime pace's frames that wait while the mapping side is busy).
+  // Nothing is told before the map starts, while lost, or when the alignment fails.
+  void Preview(int index, const Image<float>& image, double exposure_ms) const;
   // Waits until the mapping side has done all the work handed to it (nothing to wait for when
   // sequential). The accessors below read the map: call this first when threaded.
   void Finish();
@@ -280,6 +290,8 @@ class System {
   // Frames from the last trusted frame to `index` (at least 1): index steps, or the frame
   // intervals between their timestamps when more (a gap in the recording).
   int FramesSinceTrusted(int index) const;
+  // The frame as tracking sees it: `input`, or it smoothed into `storage` (stats_.smoothing_sigma).
+  const Image<float>& Smoothed(const Image<float>& input, Image<float>* storage) const;
   // Process: frame `index` at t_ns is the current one; the frame interval follows the recording.
   void NoteTimestamp(int index, int64_t t_ns);
   // A lost frame: counted, its episode opened or extended.
