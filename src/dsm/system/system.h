@@ -163,7 +163,9 @@ class System {
   // pose (world_from_cam): before the frame waits for a keyframe being mapped (`wait_until`),
   // with its pose against the newest keyframe published then; the pose the run keeps
   // (FrameTrajectory) is the one tracked after the wait (which may also fail the quality test: the
-  // frame is then lost although a pose was told). A live application takes its poses here.
+  // frame is then lost although a pose was told). Preview tells it too, and Process once more when
+  // it takes that frame later, so a frame's kept pose may come after newer frames' first poses
+  // (the index tells them apart). A live application takes its poses here.
   using PoseListener = std::function<void(int index, const SE3d& world_from_cam)>;
   void SetPoseListener(PoseListener listener) { pose_listener_ = std::move(listener); }
   // Threaded: waits until the mapping side has settled every keyframe handed to it (mapped, and
