@@ -11,7 +11,9 @@
 // cleared, is first tracked against the keyframe the tracking side holds and its pose told at once
 // (System::Preview: what a live application takes), then kept here; each call takes the waiting
 // frames in order, each once the mapping side has settled, as the sequential run does, until the
-// wait would hold up the next frame (RealtimeWait's deadline). The mapping side settles a keyframe
+// next frame's release (its first pose comes first) and never past the newest frame's deadline
+// (RealtimeWait: no frame is dropped for it). With a latency target (RealtimeWait) no frame waits
+// here. The mapping side settles a keyframe
 // in 30-60 ms, and the tracking side takes a frame in 2-5 ms, so the backlog of an adjustment is
 // cleared within a few frames of its end. A frame that waited kMaxWaitMs is taken at once against
 // whatever is published (a loop adjustment of several seconds would otherwise hold everything up).

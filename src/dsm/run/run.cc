@@ -380,6 +380,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   // Realtime: the waiting frames in order, each once the mapping side has settled, until `deadline`
   // (none: all of them, the run ended); one that waited too long at once (frame_backlog.h).
   FrameBacklog backlog;
+  // A latency target bounds the kept pose's latency instead: no frame waits in the backlog.
+  const bool use_backlog = std::isinf(options.realtime_latency_target_ms);
   const auto drain = [&](std::optional<std::chrono::steady_clock::time_point> deadline) {
     while (!backlog.frames.empty()) {
       const auto now = std::chrono::steady_clock::now();
@@ -425,10 +427,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     }
     const auto deadline = realtime_wait.Deadline(released, i + 1 < end ? std::optional(release(i + 1)) : std::nullopt,
                                                  i + 2 < end ? std::optional(release(i + 2)) : std::nullopt);
-    // A latency target bounds the kept pose's latency instead: no frame waits in the backlog.
-    const bool settled = !std::isinf(options.realtime_latency_target_ms) ||
-                         map_set.current().WaitSettled(std::chrono::steady_clock::now());
-    if (backlog.frames.empty() && settled) {
+    if (backlog.frames.empty() && (!use_backlog || map_set.current().WaitSettled(std::chrono::steady_clock::now()))) {
       take(i, frame.image, released, taken, deadline, std::nullopt);
       continue;
     }

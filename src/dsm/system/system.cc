@@ -102,7 +102,7 @@ bool System::WaitSettled(std::chrono::steady_clock::time_point until) const {
 }
 
 void System::Preview(int index, const Image<float>& input, double exposure_ms) const {
-  if (!reference_ || lost_ || !pose_listener_ || stats_.smoothing_sigma < 0.0) return;
+  if (!reference_ || lost_ || !pose_listener_) return;
   Image<float> smoothed;
   const ImagePyramid pyramid(Smoothed(input, &smoothed), options_.pyramid_levels, /*gradients=*/false);
   const TrackResult result = TrackFrame(index, pyramid, exposure_ms > 0.0 ? exposure_ms : 1.0);
