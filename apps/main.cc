@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   add("synth", "Render a synthetic sequence with exact ground truth", dsm::cli::AddSynth);
   add("report", "Rebuild report.html (map, trajectory, plots; one self-contained page) from a run's output folder",
       dsm::cli::AddReport);
+  add("damage", "Copy a EuRoC recording with bad frames spliced in (black, noise, a hand over the lens, damaged files)",
+      dsm::cli::AddDamage);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

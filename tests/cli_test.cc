@@ -14,6 +14,7 @@
 #include "dsm/io/euroc_copy.h"
 #include "dsm/io/trajectory_io.h"
 #include "dsm/testing/test_data.h"
+#include "dsm/util/check.h"
 
 namespace dsm {
 namespace {
@@ -321,6 +322,7 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
   WriteText(dir / "bad_interpolation.yaml", "system: {interpolation: bicubic}\n");
   WriteText(dir / "bad_texture_loss.yaml", "pba: {texture_loss_ratio: 1.5}\n");
   WriteText(dir / "badcam" / "camera.yaml", "model: pinhole\nwidth: 640\nheight: 480\nintrinsics: [400, 400, 320]\n");
+  ASSERT_EQ(RunDsm("synth --scene shake --frames 2 --width 160 --height 120 --out " + (dir / "generic").string()).code, 0);
   const std::vector<Case> cases = {
       {"info " + (dir / "nothing").string(), "not found"},
       {"info " + dir.string(), "cannot detect"},
@@ -357,6 +359,14 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 339 --out " + (dir / "o").string(),
        "at least two frames"},
       {"synth --scene loop --out " + (dir / "x").string() + " --defects fog:3", "--defects: unknown kind 'fog'"},
+      {"damage " + (SharedDataDir() / "euroc_mh01_shake").string() + " --out " + (dir / "d").string() +
+           " --defects fog:3",
+       "--defects: unknown kind 'fog'"},
+      {"damage " + (dir / "generic").string() + " --out " + (dir / "d").string() + " --defects black:3",
+       "copies EuRoC folders; this one is folder"},
+      {"damage " + (SharedDataDir() / "euroc_mh01_shake").string() + " --out " + (dir / "badcam").string() +
+           " --defects black:3",
+       "is not empty"},
       {"info " + (dir / "badcam").string() + " --gt-quaternion jpl", "EuRoC datasets only"},
       {"info " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gt-out " + (dir / "no" / "gt.tum").string(),
        "gt.tum: cannot write"},
@@ -396,6 +406,34 @@ TEST(Cli, BadFramesCostTheirFrameNotTheRun) {
   EXPECT_EQ(stats["frames"], 37);
   EXPECT_EQ(stats["interrupted"], false);
   EXPECT_GE(ReadTrajectory(dir / "out" / "frames.tum", TrajectoryFormat::kTum).size(), 12u);
+}
+
+// `dsm damage`: a EuRoC copy that links the good images, writes the spoiled ones (a black frame is
+// all 0), damages the file of a corrupt one, leaves cut frames out of the list and keeps the ground
+// truth; `dsm info` reads it.
+TEST(Cli, DamageWritesAEurocCopyWithTheDefects) {
+  const fs::path dir = ScratchDir("cli_damage");
+  const fs::path src = SharedDataDir() / "euroc_mh01_shake";
+  const Result r = RunDsm("damage " + src.string() + " --out " + (dir / "d").string() +
+                          " --defects black:3-4,corrupt:6,cut:10-19");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const Dataset clean = OpenDataset(src);
+  const Dataset damaged = OpenDataset(dir / "d");
+  ASSERT_EQ(damaged.size(), clean.size() - 10);
+  EXPECT_EQ(damaged.frames[9].t_ns, clean.frames[9].t_ns);
+  EXPECT_EQ(damaged.frames[10].t_ns, clean.frames[20].t_ns);
+  EXPECT_EQ(damaged.ground_truth.size(), clean.ground_truth.size());
+  const fs::path data = dir / "d" / "mav0" / "cam0" / "data";
+  EXPECT_TRUE(fs::is_symlink(data / clean.frames[2].image));
+  EXPECT_FALSE(fs::is_symlink(data / clean.frames[3].image));
+  const Image<uint8_t> black = damaged.LoadImage(3);
+  EXPECT_EQ(*std::max_element(black.data(), black.data() + black.width() * black.height()), 0);
+  EXPECT_NE(fs::file_size(data / clean.frames[6].image), 0u);
+  EXPECT_THROW(damaged.LoadImage(6), InputError);
+  EXPECT_FALSE(fs::exists(data / clean.frames[15].image));
+  const Result info = RunDsm("info " + (dir / "d").string());
+  EXPECT_EQ(info.code, 0) << info.output;
+  EXPECT_TRUE(Contains(info.output, "frames:       330")) << info.output;
 }
 
 // SIGTERM (and SIGINT) finish the current frame and write what the run has: exit 128 + signal.

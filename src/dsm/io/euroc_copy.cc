@@ -16,19 +16,20 @@ namespace fs = std::filesystem;
 void WriteEurocCopy(const fs::path& src, const fs::path& dst, size_t frames, const GroundTruthConvention& reading,
                     const std::string& defects) {
   const Dataset d = OpenDataset(src);
-  DSM_CHECK(d.format == "euroc" && d.HasGroundTruth(), src.string() + " is no EuRoC dataset with ground truth");
+  if (d.format != "euroc") throw InputError(src.string() + ": not a EuRoC folder (" + d.format + ")");
   const fs::path cam0 = dst / "mav0" / "cam0";
   fs::create_directories(cam0);
-  fs::create_directories(dst / "mav0" / "state_groundtruth_estimate0");
   fs::copy_file(src / "mav0" / "cam0" / "sensor.yaml", cam0 / "sensor.yaml", fs::copy_options::overwrite_existing);
   const fs::path data = fs::absolute(src / "mav0" / "cam0" / "data");
   const std::vector<synth::Defect> spoiled = synth::ParseDefects(defects);
+  const auto cut = [&](size_t i) { return synth::IsCut(spoiled, static_cast<int>(i)); };
   if (spoiled.empty()) {
     fs::create_directory_symlink(data, cam0 / "data");
   } else {
     // Every image linked but the spoiled ones (a damaged file is a copy, never the original).
     fs::create_directories(cam0 / "data");
     for (size_t i = 0; i < std::min(frames, d.size()); ++i) {
+      if (cut(i)) continue;
       const fs::path to = cam0 / "data" / d.frames[i].image;
       const auto hit = [&](bool file) {
         return std::any_of(spoiled.begin(), spoiled.end(), [&](const synth::Defect& s) {
@@ -49,8 +50,11 @@ void WriteEurocCopy(const fs::path& src, const fs::path& dst, size_t frames, con
   }
   std::ofstream csv(cam0 / "data.csv");
   csv << "#timestamp [ns],filename\n";
-  for (size_t i = 0; i < std::min(frames, d.size()); ++i) csv << d.frames[i].t_ns << "," << d.frames[i].image << "\n";
+  for (size_t i = 0; i < std::min(frames, d.size()); ++i)
+    if (!cut(i)) csv << d.frames[i].t_ns << "," << d.frames[i].image << "\n";
   DSM_CHECK(csv.good(), "cannot write " + (cam0 / "data.csv").string());
+  if (!d.HasGroundTruth()) return;
+  fs::create_directories(dst / "mav0" / "state_groundtruth_estimate0");
   const SE3d body_from_cam = ReadEurocSensorYaml(cam0 / "sensor.yaml").body_from_cam;
   WriteEurocGroundTruth(dst / "mav0" / "state_groundtruth_estimate0" / "data.csv", d.ground_truth, body_from_cam,
                         reading);
