@@ -91,6 +91,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["quality.max_speed_ratio"] = Set(&o->quality.max_speed_ratio);
   s["quality.min_speed"] = Set(&o->quality.min_speed);
   s["quality.history"] = Set(&o->quality.history);
+  s["quality.min_history"] = Set(&o->quality.min_history);
   s["relocalisation.candidates"] = Set(&o->relocalisation.candidates);
   s["relocalisation.max_lost_frames"] = Set(&o->relocalisation.max_lost_frames);
   s["relocalisation.max_predicted_frames"] = Set(&o->relocalisation.max_predicted_frames);

@@ -366,6 +366,9 @@ class System {
   // On the mapping side, once keyframe kInitTrackingKeyframe is mapped (or at Finish): tracks
   // init_between_ into init_tracked_.
   void TrackInitFrames();
+  // Seeds the quality test's levels of a new map (TrackingQuality::Seed): the textures of the
+  // initialiser's frames, and the residual of `neighbour` tracked from `guess` (frame_from_reference).
+  void SeedQuality(const PendingFrame& neighbour, const SE3d& guess, const std::vector<double>& textures);
   static constexpr int kInitTrackingKeyframe = 4;
   // The points among `ids` the bundle adjustment saw in keyframe `kf`, projected into it
   // (`adjusted` false: before kf's first bundle adjustment, every point that projects into it).

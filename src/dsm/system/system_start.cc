@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "dsm/image/signature.h"
 #include "dsm/system/mapping_thread.h"
 #include "dsm/system/system.h"
 #include "dsm/system/system_internal.h"
@@ -48,6 +49,11 @@ FrameReport System::Initialize(int index, int64_t t_ns, const Image<float>& imag
 
 void System::StartMap(const InitResult& init) {
   stats_.initialized_at_frame = pending_.back().index;
+  // The quality levels' seed (SeedQuality), taken before the keyframes take their pyramids.
+  std::vector<double> textures;
+  for (const PendingFrame& p : pending_) textures.push_back(ComputeSignature(*p.pyramid).texture);
+  const int k = static_cast<int>(pending_.size()) - 1;
+  const PendingFrame neighbour = pending_[std::max(0, k - 1)];
   stats_.initialization = init.planar ? "planar" : "two-view";
   PendingFrame& first = pending_.front();
   PendingFrame& last = pending_.back();
@@ -94,7 +100,6 @@ void System::StartMap(const InitResult& init) {
   UpdateReference(false);
   stats_.frames_tracked += 2;
 
-  const int k = static_cast<int>(pending_.size()) - 1;
   const SE3d kf1_from_kf0 = init.current_from_reference;
   std::vector<PendingFrame> between(pending_.begin() + 1, pending_.begin() + std::max(1, k));
   for (const PendingFrame& p : between) frames_.push_back({p.t_ns, -1, SE3d()});
@@ -108,7 +113,16 @@ void System::StartMap(const InitResult& init) {
   track_.last_trusted_index = last.index;
   track_.last_trusted_t_ns = last.t_ns;
   track_.exposure = last.exposure;
+  SeedQuality(neighbour, k >= 2 ? track_.velocity.Inverse() : kf1_from_kf0.Inverse(), textures);
   pending_.clear();
+}
+
+void System::SeedQuality(const PendingFrame& neighbour, const SE3d& guess, const std::vector<double>& textures) {
+  // The residual level: the frame before the second keyframe (or the first keyframe, when the
+  // initialiser had no frame between them) tracked against the reference as it stands (in
+  // sequential runs the second keyframe, mapped), as the next frames will be.
+  const TrackResult r = tracker_->Track(*neighbour.pyramid, guess, std::log(neighbour.exposure / track_.exposure), 0.0, 1);
+  track_.quality.Seed(r.ok ? r.residual_p50 : 0.0, textures);
 }
 
 void System::TrackInitFrames() {

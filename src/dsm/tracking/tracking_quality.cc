@@ -38,6 +38,7 @@ void QualityOptions::Validate() const {
   if (!(max_rotation_deg > 0.0 && max_rotation_deg <= 180.0)) throw InputError("quality.max_rotation_deg must be in (0, 180]");
   if (!(max_parallax > 0.0)) throw InputError("quality.max_parallax must be positive");
   if (history < 1) throw InputError("quality.history must be at least 1");
+  if (min_history < 1 || min_history > history) throw InputError("quality.min_history must be in [1, quality.history]");
   if (!(max_speed_ratio > 0.0)) throw InputError("quality.max_speed_ratio must be positive");
   if (!(min_speed >= 0.0)) throw InputError("quality.min_speed must be non-negative");
   if (!(min_turn_deg >= 0.0)) throw InputError("quality.min_turn_deg must be non-negative");
@@ -49,7 +50,7 @@ double TrackingQuality::ResidualLevel() const { return MedianOf(residual_); }
 double TrackingQuality::TextureLevel() const { return MedianOf(texture_); }
 
 bool TrackingQuality::BelowTextureLevel(double texture, double ratio, double level) const {
-  return static_cast<int>(texture_.size()) >= options_.history && texture < ratio * level;
+  return static_cast<int>(texture_.size()) >= options_.min_history && texture < ratio * level;
 }
 
 std::string TrackingQuality::CheckImage(double texture) const {
@@ -75,7 +76,7 @@ std::string TrackingQuality::CheckTracking(const TrackResult& r, const SE3d& ste
   if (!r.ok) return r.reason;
   const double level = ResidualLevel();
   const double ratio = other_keyframe ? options_.max_relocalisation_residual_ratio : options_.max_residual_ratio;
-  if (static_cast<int>(residual_.size()) >= options_.history && !(r.residual_p50 <= ratio * level))
+  if (static_cast<int>(residual_.size()) >= options_.min_history && !(r.residual_p50 <= ratio * level))
     return Format("median residual %.1f, usual %.1f", r.residual_p50, level);
   if (r.inlier_ratio < options_.min_inlier_ratio)
     return Format("%.0f%% inliers (at least %.0f%%)", 100.0 * r.inlier_ratio, 100.0 * options_.min_inlier_ratio);
@@ -105,6 +106,15 @@ std::string TrackingQuality::CheckJump(const SE3d& step, int frames, const SE3d&
   if (!(off_deg <= turn_reach))
     return Format("implausible turn (%.0f deg off the prediction, reach %.0f deg)", off_deg, turn_reach);
   return {};
+}
+
+void TrackingQuality::Seed(double residual_p50, const std::vector<double>& textures) {
+  residual_.clear();
+  texture_.clear();
+  if (residual_p50 > 0.0) residual_.assign(options_.min_history, residual_p50);
+  for (double t : textures)
+    if (std::isfinite(t)) texture_.push_back(t);
+  while (static_cast<int>(texture_.size()) > options_.history) texture_.pop_front();
 }
 
 void TrackingQuality::Restart(double residual_p50, double texture) {

@@ -42,7 +42,12 @@
 //             320x240 `loop` with a hand over the lens for 16 frames a pose turned 75 deg from the
 //             last trusted one passed the residual test, 1.9x the usual level where correct
 //             relocalisations show 1.1-2x; the camera had turned 15 deg)
-// Until `history` frames are trusted only the absolute rules apply. The median of the level-0
+// The levels judge once they hold `min_history` values. A new map's are seeded at once
+// (System::StartMap): the texture with that of each frame the initialiser used, the residual with
+// the frame before the second keyframe tracked against the new map, so that a bad frame right
+// after the start is judged as any other (before, only the absolute rules applied for the first
+// `history` trusted frames: 15 black frames from the fourth frame of EuRoC became five keyframes
+// and the map was lost, as were noise frames and a hand right after the room's start). The median of the level-0
 // gradient-weighted residuals (TrackResult::residual_p50), not their RMS: occlusions and moving
 // things add outliers to a good alignment (the RMS of clean frames reaches 3.2x its running level,
 // the median 2.6x, measured on the shared EuRoC and room frames and on `loop` and `forward`), while
@@ -51,6 +56,7 @@
 
 #include <deque>
 #include <string>
+#include <vector>
 
 #include "dsm/lie/se3.h"
 #include "dsm/tracking/frame_tracker.h"
@@ -70,6 +76,7 @@ struct QualityOptions {
   double min_speed = 0.02;
   double min_turn_deg = 2.5;
   int history = 20;
+  int min_history = 3;
 
   void Validate() const;
 };
@@ -98,6 +105,9 @@ class TrackingQuality {
   std::string CheckSpeed(const SE3d& step, int frames, double speed, double mean_idepth) const;
   // A trusted frame: its values join the levels.
   void Trust(double residual_p50, double texture);
+  // A new map's levels before its first trusted frame: the initialiser's frames' textures and
+  // one frame's residual against the new map (<= 0: none; min_history copies of it).
+  void Seed(double residual_p50, const std::vector<double>& textures);
   // A relocalised frame: its reference is another keyframe, often a farther one than tracking
   // uses, so its residual level starts again from this frame's (never below the old level).
   void Restart(double residual_p50, double texture);
@@ -106,7 +116,7 @@ class TrackingQuality {
   double TextureLevel() const;  // 0 before the first trusted frame.
 
  private:
-  // Whether the texture level is known (`history` frames) and `texture` is below `ratio` x
+  // Whether the texture level is known (`min_history` values) and `texture` is below `ratio` x
   // `level` (the level, or a lower one taken for it).
   bool BelowTextureLevel(double texture, double ratio, double level) const;
 

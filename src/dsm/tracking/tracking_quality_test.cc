@@ -25,7 +25,7 @@ TEST(TrackingQuality, JudgesAgainstTheRunningLevels) {
   QualityOptions o;
   o.history = 5;
   TrackingQuality q(o);
-  // Before `history` trusted frames only the absolute rules apply.
+  // Before `min_history` (3) trusted frames only the absolute rules apply.
   EXPECT_EQ(q.CheckImage(0.0), "");
   EXPECT_EQ(q.CheckTracking(Tracked(100.0), SE3d(), 1, 1.0), "");
   for (double p50 : {2.0, 2.2, 1.8, 2.1, 1.9}) q.Trust(p50, 10.0);
@@ -51,6 +51,38 @@ TEST(TrackingQuality, JudgesAgainstTheRunningLevels) {
   far.frame_from_keyframe = Turned(0.0, 2.0);
   EXPECT_NE(q.CheckTracking(far, SE3d(), 1, 1.0).find("parallax"), std::string::npos);
   EXPECT_EQ(q.CheckTracking(far, SE3d(), 1, 0.5), "");
+}
+
+// The levels judge from min_history values on; a new map's are seeded before its first trusted
+// frame, so that a black or noise frame right after the start is lost like any other.
+TEST(TrackingQuality, JudgesFromTheSeedOfANewMap) {
+  QualityOptions o;
+  o.history = 20;
+  o.min_history = 3;
+  TrackingQuality warming(o);
+  warming.Trust(2.0, 10.0);
+  warming.Trust(2.0, 10.0);
+  EXPECT_EQ(warming.CheckImage(0.0), "");
+  warming.Trust(2.0, 10.0);
+  EXPECT_NE(warming.CheckImage(0.0).find("too little texture"), std::string::npos);
+
+  TrackingQuality q(o);
+  q.Seed(1.5, {12.0, 11.0, 12.5, std::nan("")});
+  EXPECT_DOUBLE_EQ(q.ResidualLevel(), 1.5);
+  EXPECT_DOUBLE_EQ(q.TextureLevel(), 12.0);
+  EXPECT_NE(q.CheckImage(0.0).find("too little texture"), std::string::npos);  // Black.
+  EXPECT_EQ(q.CheckImage(11.0), "");
+  EXPECT_NE(q.CheckTracking(Tracked(40.0), SE3d(), 1, 1.0).find("median residual"), std::string::npos);  // Noise.
+  EXPECT_EQ(q.CheckTracking(Tracked(5.9), SE3d(), 1, 1.0), "");
+  // Trusted frames move the levels on from the seed.
+  for (int i = 0; i < 5; ++i) q.Trust(3.0, 8.0);
+  EXPECT_DOUBLE_EQ(q.ResidualLevel(), 3.0);
+  EXPECT_DOUBLE_EQ(q.TextureLevel(), 8.0);
+  // Without a residual (the tracking failed) only the texture is seeded.
+  TrackingQuality textures_only(o);
+  textures_only.Seed(0.0, {12.0, 12.0, 12.0});
+  EXPECT_NE(textures_only.CheckImage(1.0), "");
+  EXPECT_EQ(textures_only.CheckTracking(Tracked(40.0), SE3d(), 1, 1.0), "");
 }
 
 TEST(TrackingQuality, BoundsTheJumpOfARelocalisation) {
@@ -120,6 +152,11 @@ TEST(TrackingQuality, RejectsBadOptions) {
   EXPECT_THROW(TrackingQuality{o}, InputError);
   o = QualityOptions();
   o.history = 0;
+  EXPECT_THROW(TrackingQuality{o}, InputError);
+  o = QualityOptions();
+  o.min_history = o.history + 1;
+  EXPECT_THROW(TrackingQuality{o}, InputError);
+  o.min_history = 0;
   EXPECT_THROW(TrackingQuality{o}, InputError);
 }
 
