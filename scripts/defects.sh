@@ -2,11 +2,11 @@
 # Issue #15's acceptance on the synthetic scenes, as a markdown table: every scene and seed rendered
 # clean and with the defects of a bad recording (15 black frames, 15 of noise, a corrupt file, a
 # hand over the lens), both run with --sequential; then the shared recordings (EuRoC, the
-# path-traced room) as they are and with the same defects spliced in (`dsm damage`). A run passes when it exits 0, ends in one map,
-# loses each defect from its first frame (a hand: within 2 frames, as it slides in), is tracked
-# again within 5 frames of each defect's last (relocalised; a hand still over the lens at the end
-# needs no regaining), makes no keyframe of a defect frame, and keeps the keyframe ATE within
-# 1.5x the clean run's.
+# path-traced room) as they are and with the same defects spliced in (`dsm damage`). A run passes
+# when it exits 0, ends in one map, loses each defect from its first frame (a hand: within 2
+# frames, as it slides in), is tracked again within 5 frames of each defect's last (relocalised; a
+# hand still over the lens at the end needs no regaining), makes no keyframe of a defect frame, and
+# keeps the keyframe ATE within 1.5x the clean run's.
 #
 # Usage: ./scripts/defects.sh [WORK_DIR]      (default /tmp/dsm_defects)
 #   DSM_DEFECTS_SCENES="loop orbit"   scenes (default: all seven)

@@ -47,11 +47,12 @@
 // the frame before the second keyframe tracked against the new map, so that a bad frame right
 // after the start is judged as any other (before, only the absolute rules applied for the first
 // `history` trusted frames: 15 black frames from the fourth frame of EuRoC became five keyframes
-// and the map was lost, as were noise frames and a hand right after the room's start). The median of the level-0
-// gradient-weighted residuals (TrackResult::residual_p50), not their RMS: occlusions and moving
-// things add outliers to a good alignment (the RMS of clean frames reaches 3.2x its running level,
-// the median 2.6x, measured on the shared EuRoC and room frames and on `loop` and `forward`), while
-// a frame of noise or an alignment in a wrong minimum moves the median itself (12-20x).
+// and the map was lost, as were noise frames and a hand right after the room's start).
+// The median of the level-0 gradient-weighted residuals (TrackResult::residual_p50), not their
+// RMS: occlusions and moving things add outliers to a good alignment (the RMS of clean frames
+// reaches 3.2x its running level, the median 2.6x, measured on the shared EuRoC and room frames
+// and on `loop` and `forward`), while a frame of noise or an alignment in a wrong minimum moves
+// the median itself (12-20x).
 #pragma once
 
 #include <deque>
