@@ -5,7 +5,7 @@
 #include "apps/commands.h"
 #include "dsm/io/dataset.h"
 #include "dsm/io/euroc_copy.h"
-#include "dsm/synth/defects.h"
+#include "dsm/image/defects.h"
 #include "dsm/util/check.h"
 
 namespace dsm::cli {
@@ -21,12 +21,12 @@ Command AddDamage(CLI::App& app) {
                  "cover, corrupt, truncated, empty or cut, e.g. black:100-114,noise:160-174,corrupt:200,cover:240-280")
       ->required();
   return [path, out, defects] {
-    const std::vector<synth::Defect> spoiled = synth::ParseDefects(*defects);  // Bad spec: before anything is written.
+    const std::vector<Defect> spoiled = ParseDefects(*defects);  // Bad spec: before anything is written.
     const Dataset dataset = OpenDataset(*path);
     if (dataset.format != "euroc") throw InputError(*path + ": `dsm damage` copies EuRoC folders; this one is " + dataset.format);
     namespace fs = std::filesystem;
     if (fs::exists(*out) && !fs::is_empty(*out)) throw InputError(*out + ": the output folder exists and is not empty");
-    testing::WriteEurocCopy(*path, *out, dataset.size(), GroundTruthConvention{}, *defects);
+    WriteEurocCopy(*path, *out, dataset.size(), GroundTruthConvention{}, *defects);
     std::printf("%s: %zu frames of %s with %zu defects\n", out->c_str(), dataset.size(), path->c_str(), spoiled.size());
     return 0;
   };

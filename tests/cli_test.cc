@@ -92,7 +92,7 @@ TEST(Cli, GtCheckNamesTheReadingOfOtherFiles) {
   for (const auto& [frame, quaternion] : {std::pair{"camera", "jpl"}, std::pair{"body", "jpl"}}) {
     const std::string name = std::string(frame) + "-" + quaternion;
     const GroundTruthConvention reading{ParseGtFrame(frame, "frame"), ParseGtQuaternion(quaternion, "quaternion")};
-    testing::WriteEurocCopy(shared, dir / name, 120, reading);
+    WriteEurocCopy(shared, dir / name, 120, reading);
     const Result r = RunDsm("gt-check " + (dir / name).string() + " --pairs 20");
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_TRUE(Contains(r.output, "images agree best with: " + name)) << r.output;

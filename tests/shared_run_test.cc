@@ -131,7 +131,7 @@ std::vector<RunSummary> ExpectDefectsCostTheirFramesOnlyIn(const std::string& na
                                                            double max_ate) {
   const std::filesystem::path src = testing::SharedDataDir() / name;
   const std::filesystem::path dir = testing::ScratchDir("shared_run_defects_" + name);
-  testing::WriteEurocCopy(src, dir / "data", OpenDataset(src).size(), {},
+  WriteEurocCopy(src, dir / "data", OpenDataset(src).size(), {},
                           "black:100-114,noise:160-174,corrupt:200,cover:240-280");
   const Dataset dataset = OpenDataset(dir / "data");
   std::vector<RunSummary> runs;

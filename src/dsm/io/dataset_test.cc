@@ -71,7 +71,7 @@ TEST(EurocDataset, GroundTruthReadingsRoundTrip) {
   const Dataset reference = OpenDataset(shared);
   for (const GroundTruthConvention& reading : AllGroundTruthConventions()) {
     const fs::path dir = ScratchDir("euroc_" + reading.Name());
-    testing::WriteEurocCopy(shared, dir, 20, reading);
+    WriteEurocCopy(shared, dir, 20, reading);
     const Dataset copy = OpenDataset(dir, reading);
     EXPECT_EQ(copy.size(), 20u);
     ASSERT_EQ(copy.ground_truth.size(), reference.ground_truth.size()) << reading.Name();

@@ -6,10 +6,10 @@
 
 #include "dsm/io/calibration_io.h"
 #include "dsm/io/image_io.h"
-#include "dsm/synth/defects.h"
+#include "dsm/image/defects.h"
 #include "dsm/util/check.h"
 
-namespace dsm::testing {
+namespace dsm {
 
 namespace fs = std::filesystem;
 
@@ -21,8 +21,8 @@ void WriteEurocCopy(const fs::path& src, const fs::path& dst, size_t frames, con
   fs::create_directories(cam0);
   fs::copy_file(src / "mav0" / "cam0" / "sensor.yaml", cam0 / "sensor.yaml", fs::copy_options::overwrite_existing);
   const fs::path data = fs::absolute(src / "mav0" / "cam0" / "data");
-  const std::vector<synth::Defect> spoiled = synth::ParseDefects(defects);
-  const auto cut = [&](size_t i) { return synth::IsCut(spoiled, static_cast<int>(i)); };
+  const std::vector<Defect> spoiled = ParseDefects(defects);
+  const auto cut = [&](size_t i) { return IsCut(spoiled, static_cast<int>(i)); };
   if (spoiled.empty()) {
     fs::create_directory_symlink(data, cam0 / "data");
   } else {
@@ -32,17 +32,17 @@ void WriteEurocCopy(const fs::path& src, const fs::path& dst, size_t frames, con
       if (cut(i)) continue;
       const fs::path to = cam0 / "data" / d.frames[i].image;
       const auto hit = [&](bool file) {
-        return std::any_of(spoiled.begin(), spoiled.end(), [&](const synth::Defect& s) {
-          return synth::IsFileDefect(s.kind) == file && static_cast<int>(i) >= s.first && static_cast<int>(i) <= s.last;
+        return std::any_of(spoiled.begin(), spoiled.end(), [&](const Defect& s) {
+          return IsFileDefect(s.kind) == file && static_cast<int>(i) >= s.first && static_cast<int>(i) <= s.last;
         });
       };
       if (hit(false)) {
         Image<uint8_t> image = d.LoadImage(i);
-        synth::ApplyImageDefects(spoiled, static_cast<int>(i), 1, &image);
+        ApplyImageDefects(spoiled, static_cast<int>(i), 1, &image);
         WriteGray8(to, image);
       } else if (hit(true)) {
         fs::copy_file(data / d.frames[i].image, to);
-        synth::ApplyFileDefects(spoiled, static_cast<int>(i), to);
+        ApplyFileDefects(spoiled, static_cast<int>(i), to);
       } else {
         fs::create_symlink(data / d.frames[i].image, to);
       }
@@ -60,4 +60,4 @@ void WriteEurocCopy(const fs::path& src, const fs::path& dst, size_t frames, con
                         reading);
 }
 
-}  // namespace dsm::testing
+}  // namespace dsm

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Test helper: the expectations on a run over a sequence with image defects (synth/defects.h),
+// Test helper: the expectations on a run over a sequence with image defects (image/defects.h),
 // shared by the rendered and the EuRoC end-to-end tests.
 #pragma once
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <random>
 
-#include "dsm/synth/defects.h"
+#include "dsm/image/defects.h"
 #include "dsm/util/check.h"
 
 namespace dsm::synth {

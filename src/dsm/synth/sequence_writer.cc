@@ -9,7 +9,7 @@
 #include "dsm/io/folder_dataset.h"
 #include "dsm/io/image_io.h"
 #include "dsm/io/trajectory_io.h"
-#include "dsm/synth/defects.h"
+#include "dsm/image/defects.h"
 #include "dsm/synth/renderer.h"
 #include "dsm/util/check.h"
 

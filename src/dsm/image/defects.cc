@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "dsm/synth/defects.h"
+#include "dsm/image/defects.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include "dsm/util/check.h"
 #include "dsm/util/parse.h"
 
-namespace dsm::synth {
+namespace dsm {
 
 namespace fs = std::filesystem;
 
@@ -135,4 +135,4 @@ void ApplyFileDefects(const std::vector<Defect>& defects, int frame, const fs::p
   if (!out) throw InputError(file.string() + ": cannot write the damaged frame");
 }
 
-}  // namespace dsm::synth
+}  // namespace dsm

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "dsm/synth/defects.h"
+#include "dsm/image/defects.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include "dsm/testing/test_data.h"
 #include "dsm/util/check.h"
 
-namespace dsm::synth {
+namespace dsm {
 namespace {
 
 TEST(Defects, ParsesKindsAndRanges) {
@@ -89,4 +89,4 @@ TEST(Defects, FileDefectsDamageTheFile) {
 }
 
 }  // namespace
-}  // namespace dsm::synth
+}  // namespace dsm

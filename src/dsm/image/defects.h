@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Defects injected into a rendered sequence (`dsm synth --defects`), the bad frames a live system
-// meets: a spec is a comma-separated list of KIND:FIRST[-LAST] (frame indices, inclusive), e.g.
+// Defects injected into a recording (`dsm synth --defects`, `dsm damage`), the bad frames a live
+// system meets: a spec is a comma-separated list of KIND:FIRST[-LAST] (frame indices, inclusive),
+// e.g.
 //   black:200-214,noise:300-314,corrupt:350,cover:400-440
 // Image defects replace or spoil the frame:
 //   black      all 0 (lens cap, light off)        saturated  all 255 (blinded)
@@ -20,7 +21,7 @@
 
 #include "dsm/image/image.h"
 
-namespace dsm::synth {
+namespace dsm {
 
 enum class DefectKind { kBlack, kSaturated, kNoise, kCover, kCorrupt, kTruncated, kEmpty, kCut };
 
@@ -43,4 +44,4 @@ void ApplyImageDefects(const std::vector<Defect>& defects, int frame, uint32_t s
 // The file defect of `frame` applied to its written file, if any.
 void ApplyFileDefects(const std::vector<Defect>& defects, int frame, const std::filesystem::path& file);
 
-}  // namespace dsm::synth
+}  // namespace dsm
