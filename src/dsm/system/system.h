@@ -199,8 +199,9 @@ class System {
   // TrackedMapSize.
   std::shared_ptr<const MapSnapshot> TrackedMapSnapshot() const;
   std::optional<SE3d> LastFramePose() const;
-  // True once relocalisation failed options.relocalisation.max_lost_frames times in a row: the
-  // camera is somewhere the map does not cover, and the caller starts a new map (a new System).
+  // True once relocalisation failed options.relocalisation.max_lost_frames times in a row
+  // (max_predicted_frames in a map of at most young_map_keyframes keyframes): the camera is
+  // somewhere the map does not cover, and the caller starts a new map (a new System).
   bool NeedsNewMap() const;
   // The caller started a new map (NeedsNewMap) and keeps this one: frames are still tried against
   // it (Process, relocalisation only) but count in it from the relocalisation the next frame

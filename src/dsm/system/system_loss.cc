@@ -80,8 +80,13 @@ void System::WithdrawRelocalisation() {
 }
 
 bool System::NeedsNewMap() const {
-  return options_.relocalisation.max_lost_frames > 0 &&
-         track_.failed_relocalisations >= options_.relocalisation.max_lost_frames;
+  const RelocalisationOptions& o = options_.relocalisation;
+  if (o.max_lost_frames == 0) return false;
+  // The keyframes handed to the mapping side (the tracking side's count: the map itself may be
+  // being written to).
+  const bool young = next_keyframe_ <= o.young_map_keyframes;
+  const int limit = young ? std::max(1, std::min(o.max_lost_frames, o.max_predicted_frames)) : o.max_lost_frames;
+  return track_.failed_relocalisations >= limit;
 }
 
 }  // namespace dsm
