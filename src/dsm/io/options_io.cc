@@ -95,7 +95,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["relocalisation.candidates"] = Set(&o->relocalisation.candidates);
   s["relocalisation.max_lost_frames"] = Set(&o->relocalisation.max_lost_frames);
   s["relocalisation.max_predicted_frames"] = Set(&o->relocalisation.max_predicted_frames);
-  s["relocalisation.young_map_keyframes"] = Set(&o->relocalisation.young_map_keyframes);
+  s["relocalisation.young_map_frames"] = Set(&o->relocalisation.young_map_frames);
   s["window.temporal_keyframes"] = Set(&o->window.temporal_keyframes);
   s["window.min_visible_ratio"] = Set(&o->window.min_visible_ratio);
   s["window.max_affine_change"] = Set(&o->window.max_affine_change);

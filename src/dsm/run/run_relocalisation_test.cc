@@ -287,14 +287,14 @@ TEST(Relocalisation, AYoungMapIsGivenUpSooner) {
   const fs::path dir = testing::ScratchDir("reloc_young") / "sequence";
   Splice({{&a, 0, 10}, {&b, 0, 80}}, dir);
   RelocalisationOptions options;
-  for (const int young : {options.young_map_keyframes, 0}) {
-    options.young_map_keyframes = young;
+  for (const int young : {options.young_map_frames, 0}) {
+    options.young_map_frames = young;
     const RunSummary s = RunSequential(dir, dir.parent_path() / ("out_" + std::to_string(young)), -1, options);
-    std::printf("young_map_keyframes %d: %s\n", young, s.line.c_str());
+    std::printf("young_map_frames %d: %s\n", young, s.line.c_str());
     ASSERT_EQ(s.stats["maps"].size(), 2u);
     const auto& first = s.stats["maps"][0];
     const int second = s.stats["maps"][1]["first_frame"].get<int>();
-    ASSERT_LE(first["keyframes"].get<int>(), RelocalisationOptions{}.young_map_keyframes);
+    ASSERT_LE(first["frames_tracked"].get<int>(), RelocalisationOptions{}.young_map_frames);
     // Every corridor frame with texture is tried: the new map starts right after the limit.
     const int limit = young > 0 ? options.max_predicted_frames : options.max_lost_frames;
     EXPECT_GE(second, 10 + limit);

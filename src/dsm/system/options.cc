@@ -17,7 +17,7 @@ void RelocalisationOptions::Validate() const {
   if (candidates < 0 || candidates > 50) throw InputError("relocalisation.candidates must be within 0..50");
   if (max_lost_frames < 0) throw InputError("relocalisation.max_lost_frames must be non-negative (0: never a new map)");
   if (max_predicted_frames < 0) throw InputError("relocalisation.max_predicted_frames must be non-negative");
-  if (young_map_keyframes < 0) throw InputError("relocalisation.young_map_keyframes must be non-negative");
+  if (young_map_frames < 0) throw InputError("relocalisation.young_map_frames must be non-negative");
 }
 
 bool SystemOptions::YoungMapBaDue(int keyframes) const {

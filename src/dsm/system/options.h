@@ -28,9 +28,10 @@ std::string MapModeName(MapMode mode);
 // against the map's keyframes (the last reference first, then the `candidates` most similar by
 // thumbnail); after `max_lost_frames` frames in a row that had texture enough to be tried and
 // still failed, the camera is taken to be somewhere new and a new map is started (0: never); a
-// map of at most `young_map_keyframes` keyframes is given up after `max_predicted_frames` such
-// frames already (its few points, from a short baseline, are seldom found again once the
-// prediction is gone, and a new map loses less of the recording).
+// map that tracked at most `young_map_frames` frames is given up after `max_predicted_frames`
+// such frames already (its few points, from a short baseline, are seldom found again once the
+// prediction is gone, and a new map loses less of the recording). By frames, not keyframes: a
+// camera that stays in place (`shake`) keeps an old map of a few keyframes.
 // A relocalised pose is accepted when it lies within reach of the constant-velocity prediction
 // from the last trusted frame (TrackingQuality::CheckJump), while at most `max_predicted_frames`
 // frames were lost; otherwise (a longer loss, or a camera that turned away from the prediction)
@@ -40,7 +41,7 @@ struct RelocalisationOptions {
   int candidates = 3;
   int max_lost_frames = 30;
   int max_predicted_frames = 10;
-  int young_map_keyframes = 3;
+  int young_map_frames = 20;
 
   void Validate() const;
 };

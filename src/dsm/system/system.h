@@ -200,7 +200,7 @@ class System {
   std::shared_ptr<const MapSnapshot> TrackedMapSnapshot() const;
   std::optional<SE3d> LastFramePose() const;
   // True once relocalisation failed options.relocalisation.max_lost_frames times in a row
-  // (max_predicted_frames in a map of at most young_map_keyframes keyframes): the camera is
+  // (max_predicted_frames in a map that tracked at most young_map_frames frames): the camera is
   // somewhere the map does not cover, and the caller starts a new map (a new System).
   bool NeedsNewMap() const;
   // The caller started a new map (NeedsNewMap) and keeps this one: frames are still tried against

@@ -82,9 +82,7 @@ void System::WithdrawRelocalisation() {
 bool System::NeedsNewMap() const {
   const RelocalisationOptions& o = options_.relocalisation;
   if (o.max_lost_frames == 0) return false;
-  // The keyframes handed to the mapping side (the tracking side's count: the map itself may be
-  // being written to).
-  const bool young = next_keyframe_ <= o.young_map_keyframes;
+  const bool young = stats_.frames_tracked <= o.young_map_frames;
   const int limit = young ? std::max(1, std::min(o.max_lost_frames, o.max_predicted_frames)) : o.max_lost_frames;
   return track_.failed_relocalisations >= limit;
 }
