@@ -44,6 +44,7 @@ std::map<std::string, Setter> Setters(SystemOptions* o) {
   s["initializer.min_parallax_deg"] = Set(&o->initializer.min_parallax_deg);
   s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);
   s["initializer.planar_start"] = Set(&o->initializer.planar_start);
+  s["initializer.min_track_share"] = Set(&o->initializer.min_track_share);
   s["initializer.planar_min_homography_ratio"] = Set(&o->initializer.planar_min_homography_ratio);
   s["initializer.planar_frame_gap"] = Set(&o->initializer.planar_frame_gap);
   s["initializer.planar_normal_tolerance_deg"] = Set(&o->initializer.planar_normal_tolerance_deg);

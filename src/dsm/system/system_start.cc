@@ -5,6 +5,8 @@
 // mapping side.
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <string>
 
 #include "dsm/image/signature.h"
 #include "dsm/system/mapping_thread.h"
@@ -24,16 +26,25 @@ FrameReport System::Initialize(int index, int64_t t_ns, const Image<float>& imag
   report.status = TrackingStatus::kInitializing;
   const auto t0 = std::chrono::steady_clock::now();
   PendingFrame frame{index, t_ns, exposure, std::make_shared<const ImagePyramid>(image, options_.pyramid_levels)};
-  if (!initializer_->HasReference() || static_cast<int>(pending_.size()) >= options_.max_initialization_frames) {
-    // (Re)start on this frame; frames waiting on an older reference stay untracked.
+  // (Re)starts on this frame; frames waiting on an older reference stay untracked.
+  const auto restart = [&](std::string reason) {
     for (const PendingFrame& p : pending_) frames_.push_back({p.t_ns, -1, SE3d()});
     pending_.clear();
     initializer_->SetReference(image, camera_);
     pending_.push_back(std::move(frame));
-    report.reason = "waiting for motion";
+    report.reason = std::move(reason);
     return report;
-  }
+  };
+  if (!initializer_->HasReference() || static_cast<int>(pending_.size()) >= options_.max_initialization_frames)
+    return restart("waiting for motion");
   const InitResult init = initializer_->AddFrame(image);
+  // Too few corners left to join two views (InitializerOptions::min_track_share), whether or not
+  // they would: this frame becomes the reference.
+  if (initializer_->TrackShare() < options_.initializer.min_track_share) {
+    char share[64];
+    std::snprintf(share, sizeof(share), "%.0f%%", 100.0 * initializer_->TrackShare());
+    return restart(std::string("most corners lost (") + share + " left): starting over");
+  }
   pending_.push_back(std::move(frame));
   if (!init.ok) {
     report.reason = init.reason;

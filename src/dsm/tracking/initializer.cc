@@ -24,6 +24,7 @@ void InitializerOptions::Validate() const {
   if (!(planar_min_homography_ratio > 0 && planar_min_homography_ratio <= 1))
     throw InputError("initializer.planar_min_homography_ratio must be in (0, 1]");
   if (planar_frame_gap < 1) throw InputError("initializer.planar_frame_gap must be at least 1");
+  if (!(min_track_share >= 0 && min_track_share < 1)) throw InputError("initializer.min_track_share must be in [0, 1)");
   if (!(planar_normal_tolerance_deg > 0 && planar_normal_tolerance_deg < 30))
     throw InputError("initializer.planar_normal_tolerance_deg must be in (0, 30)");
 }
@@ -59,6 +60,10 @@ void Initializer::SetReference(const Image<float>& image, const PinholeCamera& c
 }
 
 int Initializer::NumTracks() const { return static_cast<int>(std::count(alive_.begin(), alive_.end(), true)); }
+
+double Initializer::TrackShare() const {
+  return alive_.empty() ? 0.0 : static_cast<double>(NumTracks()) / static_cast<double>(alive_.size());
+}
 
 void Initializer::TrackCorners(const Image<uint8_t>& gray) {
   const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
