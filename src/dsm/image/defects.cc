@@ -26,12 +26,6 @@ constexpr KindName kKinds[] = {{DefectKind::kBlack, "black"},     {DefectKind::k
                                {DefectKind::kCorrupt, "corrupt"}, {DefectKind::kTruncated, "truncated"},
                                {DefectKind::kEmpty, "empty"},     {DefectKind::kCut, "cut"}};
 
-const Defect* Find(const std::vector<Defect>& defects, int frame, bool file) {
-  for (const Defect& d : defects)
-    if (frame >= d.first && frame <= d.last && IsFileDefect(d.kind) == file) return &d;
-  return nullptr;
-}
-
 int ParseFrame(const std::string& text, const std::string& item) {
   const int64_t v = ParseInt(text, "--defects: '" + item + "'");
   if (v < 0 || v > 1000000) throw InputError("--defects: '" + item + "': frame '" + text + "' is not a frame index");
@@ -42,6 +36,12 @@ int ParseFrame(const std::string& text, const std::string& item) {
 
 bool IsFileDefect(DefectKind k) {
   return k == DefectKind::kCorrupt || k == DefectKind::kTruncated || k == DefectKind::kEmpty;
+}
+
+const Defect* FindDefect(const std::vector<Defect>& defects, int frame, bool file) {
+  for (const Defect& d : defects)
+    if (frame >= d.first && frame <= d.last && IsFileDefect(d.kind) == file) return &d;
+  return nullptr;
 }
 
 bool IsCut(const std::vector<Defect>& defects, int frame) {
@@ -76,7 +76,7 @@ std::vector<Defect> ParseDefects(const std::string& spec) {
 }
 
 void ApplyImageDefects(const std::vector<Defect>& defects, int frame, uint32_t seed, Image<uint8_t>* image) {
-  const Defect* d = Find(defects, frame, false);
+  const Defect* d = FindDefect(defects, frame, false);
   if (d == nullptr) return;
   const int w = image->width(), h = image->height();
   std::mt19937 rng(seed * 2246822519u + static_cast<uint32_t>(frame) * 3266489917u + 7u);
@@ -115,7 +115,7 @@ void ApplyImageDefects(const std::vector<Defect>& defects, int frame, uint32_t s
 }
 
 void ApplyFileDefects(const std::vector<Defect>& defects, int frame, const fs::path& file) {
-  const Defect* d = Find(defects, frame, true);
+  const Defect* d = FindDefect(defects, frame, true);
   if (d == nullptr) return;
   std::vector<char> bytes;
   {

@@ -31,6 +31,8 @@ struct Defect {
 };
 
 bool IsFileDefect(DefectKind kind);  // corrupt, truncated, empty
+// The first defect of `frame` among the file defects (file) or the others, or nullptr.
+const Defect* FindDefect(const std::vector<Defect>& defects, int frame, bool file);
 // True when a cut leaves rendered frame `frame` out.
 bool IsCut(const std::vector<Defect>& defects, int frame);
 

@@ -31,11 +31,7 @@ void WriteEurocCopy(const fs::path& src, const fs::path& dst, size_t frames, con
     for (size_t i = 0; i < std::min(frames, d.size()); ++i) {
       if (cut(i)) continue;
       const fs::path to = cam0 / "data" / d.frames[i].image;
-      const auto hit = [&](bool file) {
-        return std::any_of(spoiled.begin(), spoiled.end(), [&](const Defect& s) {
-          return IsFileDefect(s.kind) == file && static_cast<int>(i) >= s.first && static_cast<int>(i) <= s.last;
-        });
-      };
+      const auto hit = [&](bool file) { return FindDefect(spoiled, static_cast<int>(i), file) != nullptr; };
       if (hit(false)) {
         Image<uint8_t> image = d.LoadImage(i);
         ApplyImageDefects(spoiled, static_cast<int>(i), 1, &image);
