@@ -58,7 +58,7 @@ for seed in $SEEDS; do
   [[ "$seed" =~ ^[0-9]+$ ]] || { echo "ablation: --seeds: '$seed' is not a non-negative integer" >&2; exit 2; }
 done
 
-./scripts/setup.sh >/dev/null
+./scripts/packages.sh jq && ./scripts/setup.sh dsm >/dev/null
 DSM="$(pwd)/${DSM_BUILD_DIR:-build}/bin/dsm"
 DATA="$(pwd)/../shared/data"
 mkdir -p "$WORK"

@@ -5,6 +5,6 @@ BUILD_DIR="${DSM_BUILD_DIR:-build}"
 if [ -n "${DSM_BIN:-}" ]; then
   DSM="$DSM_BIN"
 else
-  ./scripts/setup.sh >/dev/null
+  ./scripts/packages.sh jq && ./scripts/setup.sh dsm >/dev/null
   DSM="$BUILD_DIR/bin/dsm"
 fi

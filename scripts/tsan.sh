@@ -9,7 +9,7 @@
 # Usage: ./scripts/tsan.sh [WORK_DIR]   (default /tmp/dsm_tsan)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-./scripts/setup.sh >/dev/null
+./scripts/setup.sh dsm >/dev/null
 TSAN_DIR="${DSM_TSAN_DIR:-build-tsan}"
 WORK="${1:-/tmp/dsm_tsan}"
 DATA="${DSM_SHARED_DATA_DIR:-../shared/data}"
