@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "apps/commands.h"
 #include "dsm/io/options_io.h"
@@ -18,7 +19,8 @@ Command AddRun(CLI::App& app) {
     int port = 8080;
     double view_wait = 0.0;
     bool view = false;
-    int start = 0, end = -1, nt = -1, nc = -1, pba_levels = -1, workers = 0;
+    int start = 0, end = -1, workers = 0;
+    std::optional<int> nt, nc, pba_levels;
     bool quiet = false, no_map = false, no_report = false, global_ba = false, truth_ba = false, sequential = false,
          realtime = false;
     GtArgs gt;
@@ -66,10 +68,10 @@ Command AddRun(CLI::App& app) {
                "from the true keyframe poses; how far it ends from them (eval.json keyframes_truth_ba, "
                "keyframes_truth_ba.tum) is the bias of the map's own energy, apart from drift");
   // Ablation switches (paper VII-A); they override the config file.
-  app.add_option("--nt", a->nt, "Temporal keyframes N_t (window.temporal_keyframes)");
+  app.add_option("--nt", a->nt, "Temporal keyframes N_t (window.temporal_keyframes, 2..20)");
   app.add_option("--nc", a->nc,
-                 "Covisible keyframes N_c (window.covisible_keyframes; in --mode sw they add to the temporal window)");
-  app.add_option("--pba-levels", a->pba_levels, "Pyramid levels of the bundle adjustment (pba.levels)");
+                 "Covisible keyframes N_c (window.covisible_keyframes, 0..20; in --mode sw they add to the temporal window)");
+  app.add_option("--pba-levels", a->pba_levels, "Pyramid levels of the bundle adjustment (pba.levels, 1..5)");
   app.add_option("--robust", a->robust, "t | huber | huber-mad (robust.function)");
   AddGtOptions(app, &a->gt);
   AddVideoOptions(app, &a->video);
@@ -78,9 +80,19 @@ Command AddRun(CLI::App& app) {
     options.system.mode = ParseMapMode(a->mode, "--mode");
     if (!a->config.empty()) ApplyOptionsYaml(a->config, &options.system);
     SystemOptions& o = options.system;
-    if (a->nt >= 0) o.window.temporal_keyframes = a->nt;
-    if (a->nc >= 0) o.window.covisible_keyframes = a->nc;
-    if (a->pba_levels >= 0) o.pba.levels = a->pba_levels;
+    // A flag's value is checked by the option it sets, with the flag named in the message.
+    const auto set = [&o](const char* flag, const std::optional<int>& value, int* field) {
+      if (!value) return;
+      *field = *value;
+      try {
+        o.Validate();
+      } catch (const InputError& e) {
+        throw InputError(std::string(flag) + " " + std::to_string(*value) + ": " + e.what());
+      }
+    };
+    set("--nt", a->nt, &o.window.temporal_keyframes);
+    set("--nc", a->nc, &o.window.covisible_keyframes);
+    set("--pba-levels", a->pba_levels, &o.pba.levels);
     if (!a->robust.empty()) o.pba.robust.kind = o.tracker.robust.kind = ParseRobustKind(a->robust, "--robust");
     options.system.Validate();
     options.global_ba = a->global_ba;

@@ -125,7 +125,8 @@ class PySystem {
     FrameReport r;
     {
       py::gil_scoped_release release;
-      r = system_.Process(next_index_++, t_ns, frame, exposure_ms);
+      r = system_.Process(next_index_, t_ns, frame, exposure_ms);
+      ++next_index_;
     }
     py::dict d;
     d["index"] = r.index;

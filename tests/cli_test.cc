@@ -323,6 +323,12 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
   WriteText(dir / "bad_texture_loss.yaml", "pba: {texture_loss_ratio: 1.5}\n");
   WriteText(dir / "badcam" / "camera.yaml", "model: pinhole\nwidth: 640\nheight: 480\nintrinsics: [400, 400, 320]\n");
   ASSERT_EQ(RunDsm("synth --scene shake --frames 2 --width 160 --height 120 --out " + (dir / "generic").string()).code, 0);
+  // A calibration whose size fits no frame of the recording: the generic scene's images, 640x480 in
+  // its camera.yaml.
+  fs::create_directories(dir / "wrong_size");
+  fs::create_directory_symlink(fs::absolute(dir / "generic" / "images"), dir / "wrong_size" / "images");
+  WriteText(dir / "wrong_size" / "camera.yaml",
+            "model: pinhole\nwidth: 640\nheight: 480\nintrinsics: [400, 400, 320, 240]\n");
   const std::vector<Case> cases = {
       {"info " + (dir / "nothing").string(), "not found"},
       {"info " + dir.string(), "cannot detect"},
@@ -339,6 +345,13 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
       {"synth --scene loop --out " + (dir / "x").string() + " --width 5", "--width"},
       {"run " + (dir / "badcam").string() + " --robust cauchy", "--robust"},
       {"run " + (dir / "badcam").string() + " --nc 99", "window.covisible_keyframes"},
+      {"run " + (dir / "badcam").string() + " --nc -3", "--nc -3: window.covisible_keyframes must be within 0..20"},
+      {"run " + (dir / "badcam").string() + " --nt 1", "--nt 1: window.temporal_keyframes"},
+      {"run " + (dir / "badcam").string() + " --pba-levels 0", "--pba-levels 0: pba.levels"},
+      {"run " + (dir / "wrong_size").string() + " --out " + (dir / "o").string(),
+       (dir / "wrong_size" / "camera.yaml").string() + ": the calibration does not fit the recording: "},
+      {"run " + (dir / "wrong_size").string() + " --out " + (dir / "o").string(),
+       "image is 160x120 but the calibration says 640x480"},
       {"run " + (dir / "badcam").string() + " --mode fast", "--mode"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " + (dir / "bad_config.yaml").string(),
        "unknown key 'pba.speed'"},

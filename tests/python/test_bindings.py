@@ -84,3 +84,9 @@ def test_bad_input_raises_with_dsm_message(synthetic_run, tmp_path):
         dsm.run(str(out.parent / "scene"), out=str(tmp_path / "x"), pace="fast")
     # uint8 images are taken as grey values too.
     assert system.process(0, np.full((240, 320), 128, np.uint8))["status"] == "initializing"
+    # Frames come in time order: a timestamp that does not increase is refused, and changes nothing.
+    with pytest.raises(ValueError, match="must come in time order"):
+        system.process(0, np.full((240, 320), 128, np.uint8))
+    with pytest.raises(ValueError, match="must come in time order"):
+        system.process(-5, np.full((240, 320), 128, np.uint8))
+    assert system.process(1, np.full((240, 320), 128, np.uint8))["index"] == 1

@@ -22,7 +22,7 @@ Image<uint8_t> Dataset::LoadImage(size_t i) const {
   DSM_CHECK(i < frames.size(), "frame index out of range");
   Image<uint8_t> image = images->Load(frames[i].image);
   if (image.width() != camera.width || image.height() != camera.height) {
-    throw InputError(images->Describe() + "/" + frames[i].image + ": image is " + std::to_string(image.width()) +
+    throw ImageSizeError(images->Describe() + "/" + frames[i].image + ": image is " + std::to_string(image.width()) +
                      "x" + std::to_string(image.height()) + " but the calibration says " +
                      std::to_string(camera.width) + "x" + std::to_string(camera.height));
   }

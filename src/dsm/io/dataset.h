@@ -31,10 +31,19 @@ struct FrameRecord {
   double exposure_ms = 0.0;  // 0 when unknown.
 };
 
+// A frame whose size differs from the calibration's: the message names the image and both sizes.
+class ImageSizeError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 struct Dataset {
   std::string format;
   std::filesystem::path root;
   CameraCalibration camera;
+  // The file `camera` was read from (empty when it was not read from a file: a Freiburg camera
+  // of the TUM RGB-D benchmark, KITTI's calibration sized from the first image).
+  std::filesystem::path calibration_file;
   UndistortMode undistort_mode = UndistortMode::kCrop;
   std::vector<FrameRecord> frames;  // Strictly increasing timestamps.
   Trajectory ground_truth;          // world_from_cam; empty when the dataset has none.
@@ -48,8 +57,8 @@ struct Dataset {
   bool HasExposure() const;
   bool HasDepth() const { return !depth_dir.empty(); }
 
-  // Frame i as 8-bit grey; throws InputError naming the file when it is unreadable or its size
-  // differs from the calibration.
+  // Frame i as 8-bit grey; throws InputError naming the file when it is unreadable, and
+  // ImageSizeError when its size differs from the calibration.
   Image<uint8_t> LoadImage(size_t i) const;
   // Frame i's file brought into memory in the background, ahead of its LoadImage (ImageStore).
   void PrefetchImage(size_t i) const;

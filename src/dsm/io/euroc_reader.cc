@@ -22,6 +22,7 @@ Dataset ReadEuroc(const fs::path& mav0, const GroundTruthConvention& convention)
   const fs::path cam0 = mav0 / "cam0";
   const EurocSensor sensor = ReadEurocSensorYaml(cam0 / "sensor.yaml");
   d.camera = sensor.camera;
+  d.calibration_file = cam0 / "sensor.yaml";
 
   const fs::path csv = cam0 / "data.csv";
   for (const DataRow& row : ReadDataRows(csv, ",")) {

@@ -37,6 +37,7 @@ Dataset ReadFolder(const fs::path& root) {
   d.root = root;
   const CameraYaml cam = ReadCameraYaml(root / "camera.yaml");
   d.camera = cam.camera;
+  d.calibration_file = root / "camera.yaml";
   d.images = MakeFolderStore(root / "images");
   const auto names = d.images->List();
   if (names.empty()) throw InputError((root / "images").string() + ": no images");

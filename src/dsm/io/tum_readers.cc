@@ -18,6 +18,7 @@ Dataset ReadTumMono(const fs::path& root) {
   d.root = root;
   const TumMonoCamera cam = ReadTumMonoCamera(root / "camera.txt");
   d.camera = cam.camera;
+  d.calibration_file = root / "camera.txt";
   d.undistort_mode = cam.mode;
   if (fs::is_directory(root / "images")) {
     d.images = MakeFolderStore(root / "images");
@@ -63,6 +64,7 @@ Dataset ReadTumRgbd(const fs::path& root) {
   d.root = root;
   if (fs::exists(root / "camera.yaml")) {
     d.camera = ReadCameraYaml(root / "camera.yaml").camera;
+    d.calibration_file = root / "camera.yaml";
   } else if (auto cam = FreiburgCamera(fs::absolute(root).lexically_normal().filename().string())) {
     d.camera = *cam;
   } else {

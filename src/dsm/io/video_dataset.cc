@@ -112,6 +112,7 @@ Dataset OpenVideo(const fs::path& video, const VideoInput& input) {
   d.format = "video";
   d.root = video;
   d.camera = ReadCameraYaml(input.camera_yaml).camera;
+  d.calibration_file = input.camera_yaml;
 
   // One pass over the video: the frame count and each frame's presentation time.
   cv::VideoCapture capture = OpenCapture(video);

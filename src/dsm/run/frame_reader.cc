@@ -20,6 +20,9 @@ FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter
   try {
     const Image<uint8_t> raw = dataset.LoadImage(i);
     out.image = dataset.photometric ? undistorter.Apply(dataset.photometric->ToIrradiance(raw)) : undistorter.Apply(raw);
+  } catch (const ImageSizeError& e) {
+    out.error = e.what();
+    out.size_mismatch = true;
   } catch (const InputError& e) {
     out.error = e.what();
   }

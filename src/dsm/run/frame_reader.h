@@ -29,6 +29,7 @@ namespace dsm {
 struct FrameOrError {
   Image<float> image;
   std::string error;  // Empty: `image` is the frame.
+  bool size_mismatch = false;  // The error is an ImageSizeError (the frame decoded, at another size).
 };
 FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i);
 // The undistorter of `dataset`'s frames for a System with `options`: the dataset's mode, an output

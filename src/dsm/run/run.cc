@@ -308,6 +308,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       });
   int dropped = 0;
   std::vector<int> skipped;  // Frames whose file could not be used.
+  bool any_frame_used = false;  // A frame of the calibration's size was read.
   int interrupt_signal = 0;  // The signal that stopped the run (interrupt.h), or 0.
   int last_frame = options.start - 1;  // The last frame taken (processed or skipped).
   Progress progress(options.quiet ? nullptr : stdout, isatty(fileno(stdout)) != 0, options.progress_interval_s);
@@ -413,6 +414,13 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     if (!reader) prefetch.Reading(i);
     const FrameOrError frame = reader ? reader->Take(i) : TryReadFrame(dataset, undistorter, i);
     last_frame = i;
+    if (frame.size_mismatch && !any_frame_used) {
+      // The first frame that decodes has another size than the calibration: the calibration does
+      // not belong to the recording, and no frame would be used.
+      const std::string calibration =
+          dataset.calibration_file.empty() ? dataset.root.string() : dataset.calibration_file.string();
+      throw InputError(calibration + ": the calibration does not fit the recording: " + frame.error);
+    }
     if (!frame.error.empty()) {
       // A bad file in a recording costs its frame, not the run.
       progress.Event("dsm: warning: " + frame.error + "; frame " + std::to_string(i) + " skipped", stderr);
@@ -420,6 +428,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       if (debug) debug->AddSkipped(i, map_set.current_id(), frame.error);
       continue;
     }
+    any_frame_used = true;
     if (reader) released = std::chrono::steady_clock::now();
     if (!taken) {
       take(i, frame.image, released, std::nullopt, std::nullopt, std::nullopt);

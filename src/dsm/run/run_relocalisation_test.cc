@@ -19,6 +19,8 @@
 //   `loop`, the young map is given up sooner (AYoungMapIsGivenUpSooner).
 //   `forward` with 70 frames cut out (the camera reappears beyond all it mapped): a second map,
 //   never a relocalisation into the first (ALongCutStartsASecondMap).
+//   A System fed frame by frame through black frames goes through every transition of its
+//   tracking state (EveryTrackingStateIsReached).
 #include <fstream>
 #include <set>
 #include <tuple>
@@ -27,7 +29,9 @@
 
 #include "dsm/io/trajectory_io.h"
 #include "dsm/run/defect_checks.h"
+#include "dsm/run/frame_reader.h"
 #include "dsm/run/run.h"
+#include "dsm/system/system.h"
 #include "dsm/synth/sequence_writer.h"
 #include "dsm/testing/test_data.h"
 
@@ -108,6 +112,70 @@ TEST(Relocalisation, DefectsAtLowResolution) {
 // from frame 7 on is lost like any other. Before, the levels judged only after 20 trusted frames:
 // noise frame 7 was tracked and became a keyframe, the map was lost from frame 8 on and a second
 // one started (keyframe ATE 20.0 mm; now 0.61 against 0.46 clean).
+// Every transition of tracking_state.h, as a System fed a rendering with black frames goes through
+// them: the start, tracking, black frames lost, the relocalisation after them and its
+// confirmation; and, where the run is told to withdraw its first relocalisation (as at the end of
+// a run: System::WithdrawTentative), lost again until the next one is confirmed. The state agrees
+// with each frame's report.
+TEST(Relocalisation, EveryTrackingStateIsReached) {
+  const fs::path dir = Render("loop", 90, "black:50-56", "states", 320, 240);
+  const Dataset dataset = OpenDataset(dir);
+  const SystemOptions options;
+  const Undistorter undistorter = FrameUndistorter(dataset, options);
+  std::set<std::pair<TrackingState, TrackingState>> seen;
+  for (const bool withdraw_first : {false, true}) {
+    System system(undistorter.output(), options);
+    bool withdrawn = false;
+    int confirmed_at = -1;
+    for (int i = 0; i < static_cast<int>(dataset.size()); ++i) {
+      const FrameOrError frame = TryReadFrame(dataset, undistorter, i);
+      ASSERT_TRUE(frame.error.empty()) << frame.error;
+      const TrackingState before = system.state();
+      const FrameReport r = system.Process(i, dataset.frames[i].t_ns, frame.image, 0.0);
+      const TrackingState after = system.state();
+      seen.insert({before, after});
+      if (after == TrackingState::kInitializing) {
+        EXPECT_EQ(r.status, TrackingStatus::kInitializing) << i;
+      } else if (after == TrackingState::kLost) {
+        EXPECT_EQ(r.status, TrackingStatus::kLost) << i;
+      } else {
+        EXPECT_EQ(r.status, TrackingStatus::kOk) << i;
+        EXPECT_EQ(r.relocalised, after == TrackingState::kConfirming) << i;
+      }
+      if (i >= 50 && i <= 56) {
+        EXPECT_EQ(after, TrackingState::kLost) << i;
+      }
+      if (after == TrackingState::kConfirming && withdraw_first && !withdrawn) {
+        system.WithdrawTentative();
+        withdrawn = true;
+        seen.insert({after, system.state()});
+        EXPECT_EQ(system.state(), TrackingState::kLost);
+      }
+      if (before == TrackingState::kConfirming && after == TrackingState::kTracking && confirmed_at < 0) confirmed_at = i;
+    }
+    system.Finish();
+    EXPECT_EQ(system.state(), TrackingState::kTracking);
+    EXPECT_GT(confirmed_at, 57);
+    EXPECT_LE(confirmed_at, 57 + 5 + (withdraw_first ? 2 : 0));
+    EXPECT_EQ(system.stats().relocalisations, 1);
+    EXPECT_EQ(withdrawn, withdraw_first);
+  }
+  using S = TrackingState;
+  for (const auto& t : std::vector<std::pair<S, S>>{{S::kInitializing, S::kTracking},
+                                                    {S::kTracking, S::kTracking},
+                                                    {S::kTracking, S::kLost},
+                                                    {S::kLost, S::kLost},
+                                                    {S::kLost, S::kConfirming},
+                                                    {S::kConfirming, S::kTracking},
+                                                    {S::kConfirming, S::kLost}}) {
+    EXPECT_TRUE(seen.count(t)) << TrackingStateName(t.first) << " -> " << TrackingStateName(t.second);
+  }
+  // Never in one frame: a lost frame goes back to tracking only through a confirmation, and a
+  // frame that fails while tracking is lost before it is tried against the map.
+  EXPECT_FALSE(seen.count({S::kLost, S::kTracking}));
+  EXPECT_FALSE(seen.count({S::kTracking, S::kConfirming}));
+}
+
 TEST(Relocalisation, BadFramesRightAfterTheStart) {
   const RunSummary s = ExpectDefectRunLikeTheClean("loop", 160, "noise:7-14,cover:40-60", {{7, 14}, {40, 60, true}},
                                                    2.0, "start_loop", 320, 240);

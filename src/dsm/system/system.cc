@@ -97,195 +97,182 @@ const Image<float>& System::Smoothed(const Image<float>& input, Image<float>* st
   return *storage;
 }
 
-bool System::WaitSettled(std::chrono::steady_clock::time_point until) const {
-  return !mapping_thread_ || mapping_thread_->WaitForSettledKeyframesUntil(until);
-}
-
-void System::Preview(int index, const Image<float>& input, double exposure_ms) const {
-  if (!reference_ || lost_ || !pose_listener_) return;
-  Image<float> smoothed;
-  const ImagePyramid pyramid(Smoothed(input, &smoothed), options_.pyramid_levels, /*gradients=*/false);
-  const TrackResult result = TrackFrame(index, pyramid, exposure_ms > 0.0 ? exposure_ms : 1.0);
-  if (result.ok) pose_listener_(index, WorldFromCam(result.frame_from_keyframe));
-}
-
 FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms,
                             std::optional<std::chrono::steady_clock::time_point> wait_until) {
   DSM_CHECK(input.width() == camera_.width && input.height() == camera_.height, "frame size differs from the camera");
-  DSM_CHECK(!suspended_ || lost_ || tentative_, "a suspended map is lost");
+  DSM_CHECK(!suspended_ || state_ == TrackingState::kLost || state_ == TrackingState::kConfirming,
+            "a suspended map is lost");
+  if (seen_index_ >= 0 && (index <= seen_index_ || t_ns <= seen_t_ns_)) {
+    throw InputError("frame " + std::to_string(index) + " at t_ns " + std::to_string(t_ns) +
+                     " does not come after frame " + std::to_string(seen_index_) + " at t_ns " +
+                     std::to_string(seen_t_ns_) + ": frames must come in time order");
+  }
   if (!suspended_) ++stats_.frames;  // A suspended map's frame counts once it is tracked.
   NoteTimestamp(index, t_ns);
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
   if (stats_.smoothing_sigma < 0.0) ChooseNoiseHandling(input);
   Image<float> smoothed;
   const Image<float>& image = Smoothed(input, &smoothed);
-  if (!reference_) return Initialize(index, t_ns, image, exposure);
+  if (state_ == TrackingState::kInitializing) return Initialize(index, t_ns, image, exposure);
 
-  // After a relocalisation the reference is an older keyframe: even a live camera waits for the
-  // keyframe made from the confirming frame, or tracking would drift off the old one meanwhile.
+  // The paper's tracking thread: the frame is aligned with the newest keyframe the mapping side
+  // has finished and judged by the quality test (tracking_quality.h): the image first, then the
+  // alignment; while lost it is aligned with the keyframes most like it instead (tracking_state.h).
+  FrameWork f = BeginFrame(index, t_ns, image, exposure);
+  if (wait_until && !f.waited) WaitForNewerKeyframe(&f, *wait_until);  // system_pace.cc
+  f.report.wait_end = std::chrono::steady_clock::now();
+  if (state_ != TrackingState::kLost && (f.tracked || f.reason.empty())) TrackAgainstReference(&f);
+  if (state_ == TrackingState::kConfirming && !f.reason.empty()) WithdrawRelocalisation();
+  if (state_ == TrackingState::kLost && f.reason.empty()) TryRelocalise(&f);
+  f.report.tracking_ms = MsSince(f.t0);
+  if (!f.reason.empty()) return LostFrame(std::move(f.report), t_ns, std::move(f.reason));
+  AcceptPose(&f);
+  // A relocalised frame's pose is tentative: it feeds nothing to the mapping side.
+  if (!f.report.relocalised) HandToMappingSide(&f);
+  return f.report;
+}
+
+void System::Transition(TrackingEvent event) {
+  const std::optional<TrackingState> next = NextTrackingState(state_, event);
+  DSM_CHECK(next.has_value(), "the tracking state has no such transition");
+  state_ = *next;
+}
+
+System::FrameWork System::BeginFrame(int index, int64_t t_ns, const Image<float>& image, double exposure) {
+  FrameWork f;
+  f.index = index;
+  f.t_ns = t_ns;
+  f.exposure = exposure;
+  f.report.index = index;
+  // What the frame before asked for (PendingWaits): the keyframe in flight first, or after a
+  // relocalisation the one made from the confirming frame: even a live camera waits for that, or
+  // tracking would drift off the old keyframe meanwhile.
   const auto wait_start = std::chrono::steady_clock::now();
-  const bool wait = (want_keyframe_ && options_.wait_for_mapping) || wait_after_relocalisation_;
-  UpdateReference(wait);
-  wait_after_relocalisation_ = false;
-  FrameReport report;
-  report.index = index;
-  report.wait_ms = MsSince(wait_start);
-  auto t0 = std::chrono::steady_clock::now();
-  auto pyramid = std::make_shared<const ImagePyramid>(image, options_.pyramid_levels, /*gradients=*/false);
-  // The quality test (tracking_quality.h): the image first, then the alignment. While lost, every
-  // frame with texture enough is tried against the map (Relocalise). A relocalisation is tentative
-  // until the next frame, tracked from it, passes the test as well; otherwise it is withdrawn and
-  // that frame is tried against the map in turn.
-  const FrameSignature signature = ComputeSignature(*pyramid);
-  const double previous_texture = previous_texture_;
-  previous_texture_ = signature.texture;
-  std::string reason = track_.quality.CheckImage(signature.texture);
-  TrackResult result;
-  SE3d relocalised_velocity;
-  const auto track = [&] {
-    result = TrackFrame(index, *pyramid, exposure);
-    if (result.brightness_held) ++stats_.brightness_holds;
-    reason = track_.quality.CheckTracking(result,
-                                          result.frame_from_keyframe * track_.last_frame_from_reference.Inverse(),
-                                          FramesSinceTrusted(index), tracker_->MeanIdepth());
-    // A relocalisation is confirmed by an alignment that found its own way, not by one that fell
-    // into the flat prediction and was done again with the brightness held: its pose passes a
-    // residual level the relocalisation has just restarted at its own value. It is withdrawn
-    // instead, and the frame is tried against the map in turn.
-    if (reason.empty() && tentative_ && result.brightness_held) reason = "brightness held right after a relocalisation";
-  };
-  // Waits for the keyframes being mapped (until `until`, or for good), then takes the newest
-  // reference; the wait is left out of the tracking time. True when the reference changed.
-  const auto wait_for_mapping = [&](std::optional<std::chrono::steady_clock::time_point> until) {
-    const auto start = std::chrono::steady_clock::now();
-    const std::shared_ptr<const TrackingReference> before = reference_;
-    if (!until) {
-      mapping_thread_->WaitForKeyframes();
-    } else if (!mapping_thread_->WaitForSettledKeyframesUntil(*until)) {
-      ++stats_.keyframe_wait_timeouts;
-    }
-    UpdateReference(false);
-    const auto waited = std::chrono::steady_clock::now() - start;
-    t0 += waited;
-    report.wait_ms += std::chrono::duration<double, std::milli>(waited).count();
-    if (report.wait_end) *report.wait_end += waited;  // A wait after the wait point (retrack).
-    return reference_ != before;
-  };
-  bool tracked = false;  // `result` and `reason` are this frame's against reference_.
-  if (!wait && wait_until && mapping_thread_ && mapping_thread_->KeyframesUnsettled() > 0) {
-    // A frame tracked against the keyframe before the pending one lands further from its
-    // reference, and its candidates' traces and the next keyframe with it: it waits until
-    // `wait_until` (run/realtime_wait.h) and is tracked against the newer one. It waits for the
-    // adjustments after the keyframe's publication as well (FinishKeyframe: the young map's, the
-    // loop's), which move the keyframe: the sequential run tracks the frame against the adjusted
-    // one, and tracking it against the keyframe as first published was the realtime run's first
-    // difference from the sequential one where the mapping kept up. A live camera's
-    // pose does not wait for that: it is tracked against the newest keyframe published first and
-    // told (SetPoseListener); the frame's pose the run keeps is the later one.
-    ++stats_.keyframe_waits;
-    if (pose_listener_ && reason.empty() && !lost_) {
-      track();
-      tracked = true;
-      if (reason.empty()) {
-        pose_listener_(index, WorldFromCam(result.frame_from_keyframe));
-        report.posed_before_wait = true;
-      }
-    }
-    if (wait_for_mapping(wait_until) && tracked) {
-      tracked = false;
-      reason.clear();  // Its image passed (it was tracked); the tracking is done again.
-    }
+  f.waited = (waits_.for_pending_keyframe && options_.wait_for_mapping) || waits_.for_confirming_keyframe;
+  UpdateReference(f.waited);
+  waits_.for_confirming_keyframe = false;
+  f.report.wait_ms = MsSince(wait_start);
+  f.t0 = std::chrono::steady_clock::now();
+  f.pyramid = std::make_shared<const ImagePyramid>(image, options_.pyramid_levels, /*gradients=*/false);
+  f.signature = ComputeSignature(*f.pyramid);
+  f.previous_texture = previous_texture_;
+  previous_texture_ = f.signature.texture;
+  f.reason = track_.quality.CheckImage(f.signature.texture);
+  return f;
+}
+
+void System::TrackAndJudge(FrameWork* f) {
+  f->result = TrackFrame(f->index, *f->pyramid, f->exposure);
+  f->tracked = true;
+  if (f->result.brightness_held) ++stats_.brightness_holds;
+  f->reason = track_.quality.CheckTracking(f->result,
+                                           f->result.frame_from_keyframe * track_.last_frame_from_reference.Inverse(),
+                                           FramesSinceTrusted(f->index), tracker_->MeanIdepth());
+  // A relocalisation is confirmed by an alignment that found its own way, not by one that fell
+  // into the flat prediction and was done again with the brightness held: its pose passes a
+  // residual level the relocalisation has just restarted at its own value.
+  if (f->reason.empty() && state_ == TrackingState::kConfirming && f->result.brightness_held)
+    f->reason = "brightness held right after a relocalisation";
+}
+
+void System::TrackAgainstReference(FrameWork* f) {
+  if (!f->tracked) {
+    UpdateReference(false);  // A keyframe may have been published since the frame came in.
+    TrackAndJudge(f);
   }
-  report.wait_end = std::chrono::steady_clock::now();
-  if (!lost_ && (tracked || reason.empty())) {
-    if (!tracked) {
-      UpdateReference(false);  // A keyframe may have been published since the frame came in.
-      track();
-    }
-    if (!reason.empty() && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
-      // Failed against the keyframe before the one being mapped (a wait that ended first): the
-      // newer keyframe may see what the camera sees now. Waiting for it costs this frame some
-      // latency; a lost frame would cost a relocalisation, which waits for the mapping side too.
-      ++stats_.keyframe_retracks;
-      wait_for_mapping(std::nullopt);
-      track();
-    }
-    if (!reason.empty() && tentative_) {
-      WithdrawRelocalisation();
-      reason.clear();
-    }
+  if (!f->reason.empty() && mapping_thread_ && mapping_thread_->KeyframesPending() > 0) {
+    // Failed against the keyframe before the one being mapped (a wait that ended first): the
+    // newer keyframe may see what the camera sees now. Waiting for it costs this frame some
+    // latency; a lost frame would cost a relocalisation, which waits for the mapping side too.
+    ++stats_.keyframe_retracks;
+    WaitForMapping(f, std::nullopt);
+    TrackAndJudge(f);
   }
-  if (reason.empty() && lost_) {
-    // A frame with less than the usual texture may be half hidden by a hand sliding off the lens,
-    // where any pose fits the rest as well as the right one: it re-anchors the camera only by
-    // three sightings that move as one camera. (A view turned to a plainer part of the scene has
-    // as little: not trying it at all started a second map on `rotation` after the noise.)
-    const std::string plain = track_.quality.CheckRelocalisationImage(signature.texture, reference_->texture);
-    Tentative before = SaveTentative(index);
-    report.relocalised = Relocalise(index, *pyramid, signature, exposure, plain, &result, &relocalised_velocity, &reason);
-    if (report.relocalised) tentative_ = std::move(before);
-    if (!report.relocalised) ++track_.failed_relocalisations;
+  if (!f->reason.empty() && state_ == TrackingState::kConfirming) {
+    // Not confirmed: the relocalisation is withdrawn and this frame is tried against the map.
+    WithdrawRelocalisation();
+    f->reason.clear();
   }
-  if (!reason.empty() && tentative_) WithdrawRelocalisation();
-  report.tracking_ms = MsSince(t0);
-  if (!reason.empty()) return LostFrame(std::move(report), t_ns, std::move(reason));
-  const bool confirmed = tentative_ && !report.relocalised;
+}
+
+void System::TryRelocalise(FrameWork* f) {
+  // A frame with less than the usual texture may be half hidden by a hand sliding off the lens,
+  // where any pose fits the rest as well as the right one: it re-anchors the camera only by
+  // three sightings that move as one camera.
+  const std::string plain = track_.quality.CheckRelocalisationImage(f->signature.texture, reference_->texture);
+  Tentative before = SaveTentative(f->index);
+  f->report.relocalised = Relocalise(f->index, *f->pyramid, f->signature, f->exposure, plain, &f->result,
+                                     &f->relocalised_velocity, &f->reason);
+  if (f->report.relocalised) {
+    tentative_ = std::move(before);
+    Transition(TrackingEvent::kRelocalised);
+  } else {
+    ++track_.failed_relocalisations;
+  }
+}
+
+void System::AcceptPose(FrameWork* f) {
+  const TrackResult& result = f->result;
+  const bool confirmed = state_ == TrackingState::kConfirming && !f->report.relocalised;
   if (confirmed) {
     tentative_.reset();
     ++stats_.relocalisations;
   }
+  if (!f->report.relocalised) Transition(TrackingEvent::kTracked);
+  f->confirmed = confirmed;
   if (suspended_) {
     ++stats_.frames;
     if (confirmed) {
       suspended_ = false;
-      report.resumed = true;
+      f->report.resumed = true;
     }
   }
-  lost_ = false;
   track_.lost_in_a_row = track_.failed_relocalisations = 0;
   // A relocalised frame's reference is another keyframe than the last trusted frame's: its
   // velocity comes from Relocalise.
-  CommitPose(index, result, exposure, report.relocalised ? std::optional<SE3d>(relocalised_velocity) : std::nullopt);
-  if (report.relocalised) {
-    track_.quality.Restart(result.residual_p50, signature.texture);
+  CommitPose(f->index, result, f->exposure,
+             f->report.relocalised ? std::optional<SE3d>(f->relocalised_velocity) : std::nullopt);
+  if (f->report.relocalised) {
+    track_.quality.Restart(result.residual_p50, f->signature.texture);
   } else {
-    track_.quality.Trust(result.residual_p50, signature.texture);
+    track_.quality.Trust(result.residual_p50, f->signature.texture);
   }
   last_frame_keyframe_ = -1;
-  report.status = TrackingStatus::kOk;
+  f->report.status = TrackingStatus::kOk;
   ++stats_.frames_tracked;
-  frames_.push_back({t_ns, reference_->keyframe, result.frame_from_keyframe});
-  if (pose_listener_ && !report.posed_before_wait) pose_listener_(index, *LastFramePose());
-  stats_.tracking_ms.push_back(report.tracking_ms);
-  // A tentative pose feeds nothing to the mapping side (and never makes a keyframe).
-  if (report.relocalised) return report;
+  frames_.push_back({f->t_ns, reference_->keyframe, result.frame_from_keyframe});
+  if (pose_listener_ && !f->report.posed_before_wait) pose_listener_(f->index, *LastFramePose());
+  stats_.tracking_ms.push_back(f->report.tracking_ms);
+}
 
+void System::HandToMappingSide(FrameWork* f) {
+  const TrackResult& result = f->result;
   if (track_.first_rmse_after_keyframe == 0.0) track_.first_rmse_after_keyframe = result.rmse;
   KeyframeScores scores;
   scores.parallax = result.frame_from_keyframe.Translation().norm() * tracker_->MeanIdepth();
   scores.visibility = result.visibility;
-  scores.brightness = std::abs(result.alpha - std::log(exposure / reference_->exposure[reference_->keyframe]));
+  scores.brightness = std::abs(result.alpha - std::log(f->exposure / reference_->exposure[reference_->keyframe]));
   scores.rmse = result.rmse;
   scores.first_rmse = track_.first_rmse_after_keyframe;
 
   MappingJob job;
-  job.index = index;
-  job.t_ns = t_ns;
-  job.exposure = exposure;
-  job.pyramid = std::move(pyramid);
+  job.index = f->index;
+  job.t_ns = f->t_ns;
+  job.exposure = f->exposure;
+  job.pyramid = std::move(f->pyramid);
   job.reference = reference_->keyframe;
   job.frame_from_reference = result.frame_from_keyframe;
   job.alpha = result.alpha;
   job.beta = result.beta;
   job.relocalisations = stats_.relocalisations;
-  want_keyframe_ = false;
+  waits_.for_pending_keyframe = false;
   if (ShouldCreateKeyframe(scores, options_.keyframe) &&
-      track_.quality.CheckKeyframeImage(signature.texture, previous_texture)) {
+      track_.quality.CheckKeyframeImage(f->signature.texture, f->previous_texture)) {
     if (mapping_thread_ && (mapping_thread_->KeyframesPending() > 0 || ReferenceIsStale())) {
       // Another keyframe is in flight, or was published while this frame was tracked against the
       // one before it: a keyframe made from this frame would hang off the older keyframe, next
-      // to the newer one.
-      want_keyframe_ = true;  // The next frame waits for the pending keyframe (or not) and decides again.
+      // to the newer one. The next frame waits for the pending keyframe (or not) and decides again.
+      waits_.for_pending_keyframe = true;
     } else {
       job.keyframe = next_keyframe_++;
       // Its error model starts as the one fitted to its tracking residuals: it judges which map
@@ -294,21 +281,20 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
                                                                            : DefaultErrorModel(options_.pba.robust);
       job.rmse = result.rmse;
       job.inlier_ratio = result.inlier_ratio;
-      frames_.back() = {t_ns, job.keyframe, SE3d()};
+      frames_.back() = {f->t_ns, job.keyframe, SE3d()};
       last_frame_keyframe_ = job.keyframe;
-      report.keyframe = true;
-      wait_after_relocalisation_ = confirmed;
+      f->report.keyframe = true;
+      waits_.for_confirming_keyframe = f->confirmed;
     }
   }
   if (job.keyframe < 0 && options_.skip_traces_while_mapping && mapping_thread_ &&
       mapping_thread_->KeyframesPending() > 0) {
     ++stats_.traces_skipped;  // Its relocalisation count reaches the mapping side with the next job.
-    return report;
+    return;
   }
   const auto t1 = std::chrono::steady_clock::now();
   Submit(std::move(job));
-  if (!mapping_thread_) report.mapping_ms = MsSince(t1);
-  return report;
+  if (!mapping_thread_) f->report.mapping_ms = MsSince(t1);
 }
 
 bool System::ReferenceIsStale() const {

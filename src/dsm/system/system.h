@@ -36,9 +36,11 @@
 #include "dsm/geometry/camera.h"
 #include "dsm/geometry/trajectory.h"
 #include "dsm/image/image.h"
+#include "dsm/image/signature.h"
 #include "dsm/map/map.h"
 #include "dsm/mapping/map_points.h"
 #include "dsm/system/options.h"
+#include "dsm/system/tracking_state.h"
 #include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/tracking_quality.h"
@@ -154,6 +156,7 @@ class System {
   // `image`: undistorted (and photometrically corrected) frame of the camera's size; smoothed first
   // as options.smoothing_sigma says (decided on the first frame).
   // `exposure_ms`: 0 when unknown. Returns once the frame is tracked (and, sequential, mapped).
+  // `index` and `t_ns` increase from frame to frame (InputError otherwise, nothing changed).
   // `wait_until` (threaded, SystemOptions::wait_for_mapping false): while a keyframe is still being
   // mapped, the frame waits for it until then, so that it is tracked against the newest keyframe
   // as in the sequential run, but no later (the realtime pace's bound, run/realtime_wait.h).
@@ -211,8 +214,10 @@ class System {
   // Withdraws a relocalisation still waiting for the next frame's confirmation, as if that frame
   // had not confirmed it (the run ended first).
   void WithdrawTentative() {
-    if (tentative_) WithdrawRelocalisation();
+    if (state_ == TrackingState::kConfirming) WithdrawRelocalisation();
   }
+  // What the tracking side does with the next frame (tracking_state.h).
+  TrackingState state() const { return state_; }
 
   // Bundle adjustment of every keyframe and point of the map (keyframe 0 fixed), once, at the end.
   void RunGlobalBundleAdjustment();
@@ -277,6 +282,43 @@ class System {
     std::shared_ptr<const MapSnapshot> snapshot;  // With SystemOptions::map_snapshots.
   };
 
+  // The frame Process works on: what it was given, what the quality test found, what it reports.
+  struct FrameWork {
+    int index = -1;
+    int64_t t_ns = 0;
+    double exposure = 1.0;
+    std::shared_ptr<const ImagePyramid> pyramid;
+    FrameSignature signature;
+    double previous_texture = 0.0;  // FrameSignature::texture of the frame before.
+    FrameReport report;
+    std::string reason;  // Why it fails the quality test; empty while it passes.
+    TrackResult result;  // Its alignment, against reference_ when `tracked`.
+    bool tracked = false;
+    bool waited = false;     // It waited for the keyframe in flight before it was tracked.
+    bool confirmed = false;  // It confirmed a relocalisation.
+    SE3d relocalised_velocity;  // Relocalised: the camera's motion per frame through the loss.
+    std::chrono::steady_clock::time_point t0;  // Start of its tracking time (waits left out).
+  };
+  // Process's steps (system.cc), in order: the waits the frame before asked for, the pyramid and
+  // the image's test; the alignment with the reference and its test (TrackAndJudge), again after
+  // the keyframe in flight when it failed, withdrawing an unconfirmed relocalisation; the
+  // relocalisation of a lost frame; the pose taken; the frame handed to the mapping side, as a
+  // keyframe when the keyframe decision says so.
+  FrameWork BeginFrame(int index, int64_t t_ns, const Image<float>& image, double exposure);
+  void TrackAndJudge(FrameWork* f);
+  void TrackAgainstReference(FrameWork* f);
+  void TryRelocalise(FrameWork* f);
+  void AcceptPose(FrameWork* f);
+  void HandToMappingSide(FrameWork* f);
+  // The one place the tracking state changes: NextTrackingState, which must know the event.
+  void Transition(TrackingEvent event);
+  // The realtime pace's wait (system_pace.cc): while a keyframe is still being mapped, the frame
+  // waits for it until `until` and is tracked against it (a pose told first, SetPoseListener).
+  void WaitForNewerKeyframe(FrameWork* f, std::chrono::steady_clock::time_point until);
+  // Waits for the keyframes being mapped (until `until`, or for good), then takes the newest
+  // reference; the wait is left out of f's tracking time. True when the reference changed.
+  bool WaitForMapping(FrameWork* f, std::optional<std::chrono::steady_clock::time_point> until);
+
   // On the first frame: its noise level, the smoothing of every frame (options.smoothing_sigma),
   // the candidates' noise gains that go with it, and whether their contrast floor applies
   // (candidate_selector.h: from candidates.contrast_min_noise on).
@@ -328,7 +370,7 @@ class System {
   bool MovesAsOneCamera(const Sighting& now, double mean_idepth) const;
   // The tracking side's state that each frame moves on (CommitPose, LostFrame), kept whole by a
   // tentative relocalisation and put back when it is withdrawn.
-  struct TrackingState {
+  struct TrackingHistory {
     // velocity: the camera's motion per frame index (frame_from_previous over one index step;
     // frames dropped or skipped between two trusted ones divide their step).
     SE3d last_frame_from_reference, velocity;
@@ -347,7 +389,7 @@ class System {
     int index = -1;
     size_t record = 0;  // The relocalised frame's entry in frames_.
     std::shared_ptr<const TrackingReference> reference;
-    TrackingState state;
+    TrackingHistory state;
   };
   Tentative SaveTentative(int index) const;
   void WithdrawRelocalisation();
@@ -479,7 +521,14 @@ class System {
   PoseListener pose_listener_;
   int next_keyframe_ = 0;         // Id of the next keyframe the tracking side makes.
   int last_frame_keyframe_ = -1;  // The keyframe made from the last tracked frame, if any.
-  bool want_keyframe_ = false;    // The next frame waits for the pending keyframe (wait_for_mapping).
+  // What the next frame waits for before it is tracked (threaded): the keyframe in flight, when
+  // this frame wanted to become a keyframe meanwhile (SystemOptions::wait_for_mapping), and the
+  // keyframe made from the frame that confirmed a relocalisation (always).
+  struct PendingWaits {
+    bool for_pending_keyframe = false;
+    bool for_confirming_keyframe = false;
+  };
+  PendingWaits waits_;
   std::vector<FrameRecordInternal> frames_;
   // Records of the frames between the two initial keyframes as the mapping side tracked them
   // (TrackInitFrames), merged into frames_ by MergeInitTracked.
@@ -490,7 +539,7 @@ class System {
     int steps = 1;                     // Frame steps from keyframe 0 to keyframe 1.
   };
   InitBetween init_between_;  // Set by StartMap, tracked on the mapping side (TrackInitFrames).
-  TrackingState track_;
+  TrackingHistory track_;
   // The frame being processed, the last one seen before it, the recording's frame interval (0:
   // not known yet) and the steps it is the median of (NoteTimestamp).
   int64_t current_t_ns_ = 0, seen_t_ns_ = 0;
@@ -498,11 +547,10 @@ class System {
   double frame_interval_ns_ = 0.0;
   std::deque<double> interval_steps_;
   double previous_texture_ = 0.0;  // FrameSignature::texture of the frame before, whatever became of it.
-  bool lost_ = false;
-  bool suspended_ = false;          // Suspend.
-  std::optional<Tentative> tentative_;  // Set from a relocalisation until the next frame confirms it.
+  TrackingState state_ = TrackingState::kInitializing;  // Changed by Transition alone.
+  bool suspended_ = false;              // Suspend: the map is set aside; its frames count once it is back.
+  std::optional<Tentative> tentative_;  // Set in TrackingState::kConfirming.
   std::deque<Sighting> sightings_;      // Of the last lost frames (at most two), oldest first.
-  bool wait_after_relocalisation_ = false;  // The next frame waits for the confirming keyframe.
   // ORB features of the keyframes relocalisation ranked, computed on first use, or by the mapping
   // side for every keyframe (SystemOptions::keyframe_features). Written by the mapping side only
   // in its jobs, read and written by the tracking side only while lost, after the mapping side went

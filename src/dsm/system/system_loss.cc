@@ -41,13 +41,12 @@ FrameReport System::LostFrame(FrameReport report, int64_t t_ns, std::string reas
   report.status = TrackingStatus::kLost;
   report.reason = std::move(reason);
   ++track_.lost_in_a_row;
+  const bool opens_episode = state_ == TrackingState::kTracking;
+  Transition(TrackingEvent::kFailed);
   if (suspended_) return report;  // Not its frame (Suspend).
   frames_.push_back({t_ns, -1, SE3d()});
   ++stats_.frames_lost;
-  if (!lost_) {
-    lost_ = true;
-    stats_.lost_episodes.push_back({report.index, report.index});
-  }
+  if (opens_episode) stats_.lost_episodes.push_back({report.index, report.index});
   stats_.lost_episodes.back().second = report.index;
   return report;
 }
@@ -75,8 +74,8 @@ void System::WithdrawRelocalisation() {
   track_ = t.state;
   ++track_.lost_in_a_row;
   ++track_.failed_relocalisations;
-  lost_ = true;
   tentative_.reset();
+  Transition(TrackingEvent::kWithdrawn);
 }
 
 bool System::NeedsNewMap() const {

@@ -105,10 +105,11 @@ void System::StartMap(const InitResult& init) {
   // The next frame waits for it unless frames are live (Process): the tracking residual it
   // measures is the baseline of the keyframe decision's residual rule, which frames tracked
   // against the initialiser's depths would set too high.
-  want_keyframe_ = true;
+  waits_.for_pending_keyframe = true;
   next_keyframe_ = 2;
   last_frame_keyframe_ = 1;
   UpdateReference(false);
+  Transition(TrackingEvent::kMapStarted);
   stats_.frames_tracked += 2;
 
   const SE3d kf1_from_kf0 = init.current_from_reference;
