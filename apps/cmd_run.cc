@@ -21,18 +21,22 @@ Command AddRun(CLI::App& app) {
     bool view = false;
     int start = 0, end = -1, workers = 0;
     std::optional<int> nt, nc, pba_levels;
+    bool print_config = false;
     bool quiet = false, no_map = false, no_report = false, global_ba = false, truth_ba = false, sequential = false,
          realtime = false;
     GtArgs gt;
     VideoArgs video;
   };
   auto a = std::make_shared<Args>();
-  app.add_option("DATASET", a->dataset, "Dataset folder, or a video file (mp4, avi, mkv, ...) with --calib")->required();
+  app.add_option("DATASET", a->dataset, "Dataset folder, or a video file (mp4, avi, mkv, ...) with --calib");
   app.add_option("--out", a->out, "Output folder (default ./dsm_out)");
   app.add_option("--mode", a->mode,
                  "dsm (persistent map: temporal + covisible window, default) | sw (sliding window of N_t + N_c "
                  "temporal keyframes)");
-  app.add_option("--config", a->config, "YAML file with options (see README)");
+  app.add_option("--config", a->config, "YAML file with options (dsm run --print-config writes them all)");
+  app.add_flag("--print-config", a->print_config,
+               "Write every option (after --config and the switches) with its value and meaning as a YAML file "
+               "to stdout, and run nothing");
   app.add_option("--start", a->start, "First frame index");
   app.add_option("--end", a->end, "One past the last frame index");
   app.add_flag("--quiet", a->quiet, "Print only the summary (no progress, no lost / relocalised lines)");
@@ -95,6 +99,11 @@ Command AddRun(CLI::App& app) {
     set("--pba-levels", a->pba_levels, &o.pba.levels);
     if (!a->robust.empty()) o.pba.robust.kind = o.tracker.robust.kind = ParseRobustKind(a->robust, "--robust");
     options.system.Validate();
+    if (a->print_config) {
+      std::fputs(OptionsYaml(options.system).c_str(), stdout);
+      return 0;
+    }
+    if (a->dataset.empty()) throw InputError("run: DATASET is required (a dataset folder, or a video file with --calib)");
     options.global_ba = a->global_ba;
     options.truth_ba = a->truth_ba;
     options.start = a->start;

@@ -4,7 +4,11 @@
 # (Sim(3)), keyframes, map points, points created and PBA time per keyframe.
 #
 # Usage: ./scripts/ablation.sh [--jobs N] [--sequences "loop forward euroc"] [--configs "dsm sw ..."]
-#                              [--seeds "1 2 3"] [--work DIR]
+#                              [--seeds "1 2 3"] [--work DIR] [--section NAME]
+#        ./scripts/ablation.sh --print-header   the table's header alone (no build, no run)
+#   section: the section of docs/results.md the table is written to (scripts/results.sh; default
+#            ablation); `accuracy`, the README's results table, is
+#            --configs "dsm sw" --seeds "1 2 3 4 5" --section accuracy
 #   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan, each also as
 #            <scene>-noisy (rendered with image noise of 6 grey levels instead of 1), and the
 #            shared euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
@@ -35,10 +39,19 @@
 #            EuRoC has one run per config; the room walk starts at frame 2 (seed - 1) per seed (a
 #            single room run moves by a factor of several with the first frame).
 # Timings are per process; with --jobs > 1 the runs share the cores (default: 1 job).
+# DSM_BIN=path runs this dsm binary (no set-up or build).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+header() {
+  echo "| sequence | config | KF ATE (mm) | keyframes | map points | points created | PBA ms/KF (mean) | runs | ATE per seed (mm) |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+}
+if [ "${1:-}" = --print-header ]; then header; exit 0; fi
+source scripts/results.sh
+RESULTS_ARGS="$*"
 
 JOBS=1
+SECTION=ablation
 SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure orbit euroc room"
 CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor no-contrast-floor bilinear texture-loss no-texture-loss two-view free-sigma smooth newest-model no-young-ba"
@@ -50,6 +63,7 @@ while (($#)); do
     --configs) CONFIGS="$2"; shift 2 ;;
     --seeds) SEEDS="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
+    --section) SECTION="$2"; shift 2 ;;
     *) echo "ablation: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -58,8 +72,7 @@ for seed in $SEEDS; do
   [[ "$seed" =~ ^[0-9]+$ ]] || { echo "ablation: --seeds: '$seed' is not a non-negative integer" >&2; exit 2; }
 done
 
-./scripts/packages.sh jq && ./scripts/setup.sh dsm >/dev/null
-DSM="$(pwd)/${DSM_BUILD_DIR:-build}/bin/dsm"
+source scripts/dsm_binary.sh
 DATA="$(pwd)/../shared/data"
 mkdir -p "$WORK"
 printf 'window:\n  optimize_covisible_poses: true\n' > "$WORK/move-covisible.yaml"
@@ -133,8 +146,8 @@ done
 printf '%s\n' "${jobs_list[@]}" | xargs -P "$JOBS" -I{} sh -c '{} || echo "failed: {}" >&2'
 
 # One row per sequence and config: medians over the seeds' runs that finished.
-echo "| sequence | config | KF ATE (mm) | keyframes | map points | points created | PBA ms/KF (mean) | runs | ATE per seed (mm) |"
-echo "|---|---|---|---|---|---|---|---|---|"
+table() {
+header
 for s in $SEQUENCES; do
   names=$(runs_for "$s" | cut -d' ' -f1)
   for c in $CONFIGS; do
@@ -161,3 +174,5 @@ for s in $SEQUENCES; do
       | "| \($s) | \($c) | \($ate) | \(map(.kf) | median | round) | \(map(.pts) | median | round) | \(map(.created) | median | round) | \(map(.pba) | median | round) | \(length)/\($total) | \($ates | map(r2 | tostring) | join(", ")) |"'
   done
 done
+}
+table | results_tee "$SECTION"

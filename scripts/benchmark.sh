@@ -5,13 +5,23 @@
 # long synthetic loop (20 laps, 6000 frames) in the default pace. Then the Google Benchmark kernels.
 #
 # Usage: ./scripts/benchmark.sh [WORK_DIR]      (default /tmp/dsm_benchmark)
+#        ./scripts/benchmark.sh --print-header   the table's header alone (no build, no run)
 #   DSM_BENCH_QUICK=1   only EuRoC and the loop scene, and a 1200-frame long loop
 #   DSM_BENCH_NO_KERNELS=1   skip the Google Benchmark programs
 #   DSM_BIN=path   measure this dsm binary (no set-up or build; e.g. a copy of an older build)
 # Renders are kept in WORK_DIR and reused. Compare numbers from one invocation only: this machine's
-# speed drifts from hour to hour.
+# speed drifts from hour to hour. The output is also written to docs/results.md (scripts/results.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+header() {
+  echo "| sequence | pace | frames | KF | tracking ms median / p90 | PBA ms/KF mean / KF 100–200 / last 100 | fps | real-time factor | dropped | latency ms median / p90 / p90 of the kept pose | peak RSS MB | KF ATE mm |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+}
+if [ "${1:-}" = --print-header ]; then header; exit 0; fi
+source scripts/results.sh
+RESULTS_ARGS="${DSM_BENCH_QUICK:+(DSM_BENCH_QUICK=$DSM_BENCH_QUICK)}"
+# The kernels' programs are built with every target.
+if [ "${DSM_BENCH_NO_KERNELS:-0}" != 1 ]; then DSM_SETUP_TARGETS=""; fi
 source scripts/dsm_binary.sh
 DATA="${DSM_SHARED_DATA_DIR:-../shared/data}"
 WORK="${1:-/tmp/dsm_benchmark}"
@@ -70,8 +80,8 @@ run_free() {  # run_free NAME DATASET
   row "$name" free "$out"
 }
 
-echo "| sequence | pace | frames | KF | tracking ms median / p90 | PBA ms/KF mean / KF 100–200 / last 100 | fps | real-time factor | dropped | latency ms median / p90 / p90 of the kept pose | peak RSS MB | KF ATE mm |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+main() {
+header
 SEQS=()
 if [ -d "$DATA/euroc_mh01_shake" ]; then SEQS+=("euroc_mh01|$DATA/euroc_mh01_shake"); fi
 for s in "${SCENES[@]}"; do
@@ -108,3 +118,5 @@ if [ "${DSM_BENCH_NO_KERNELS:-0}" != 1 ]; then
     "$b" --benchmark_min_time=0.5 2>/dev/null | grep -E "^BM_|^-|^Benchmark" || true
   done
 fi
+}
+main | results_tee benchmark

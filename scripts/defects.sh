@@ -9,6 +9,7 @@
 # keeps the keyframe ATE within 1.5x the clean run's.
 #
 # Usage: ./scripts/defects.sh [WORK_DIR]      (default /tmp/dsm_defects)
+#        ./scripts/defects.sh --print-header   the table's header alone (no build, no run)
 #   DSM_DEFECTS_SCENES="loop orbit"   scenes (default: all seven)
 #   DSM_DEFECTS_SEEDS="1 2"           seeds (default: 1 2 3 4 5)
 #   DSM_DEFECTS_SHARED="blender_room_s3"   shared recordings, damaged by `dsm damage` (default: the
@@ -17,9 +18,16 @@
 #   DSM_DEFECTS_SYNTH="--turned-textures"   more `dsm synth` options (use another WORK_DIR with them)
 #   DSM_DEFECTS_RUN="--config x.yaml"        more `dsm run` options (clean and damaged runs alike)
 #   DSM_BIN=path                      this dsm binary (no set-up or build)
-# Renders are kept in WORK_DIR and reused; runs are redone. Exit status 1 when a run fails.
+# Renders are kept in WORK_DIR and reused; runs are redone. Exit status 1 when a run fails. The
+# table is also written to docs/results.md (scripts/results.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+header() {
+  echo "| scene | seed | exit | maps | relocalisations | lost episodes | not caught / not regained | keyframes in defects | ATE clean mm | ATE mm | ratio | verdict |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+}
+if [ "${1:-}" = --print-header ]; then header; exit 0; fi
+source scripts/results.sh
 source scripts/dsm_binary.sh
 WORK="${1:-/tmp/dsm_defects}"
 read -r -a SCENES <<<"${DSM_DEFECTS_SCENES:-loop orbit exposure forward rotation pan shake}"
@@ -93,8 +101,8 @@ judge() {
   [[ "$line" != *FAIL* ]]
 }
 
-echo "| scene | seed | exit | maps | relocalisations | lost episodes | not caught / not regained | keyframes in defects | ATE clean mm | ATE mm | ratio | verdict |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+main() {
+header
 failed=0
 total=0
 for scene in "${SCENES[@]}"; do
@@ -123,4 +131,8 @@ for name in "${SHARED[@]}"; do
 done
 echo
 echo "$((total - failed)) of $total runs pass."
-[ "$failed" = 0 ]
+echo "$failed" >"$FAILED_FILE"
+}
+FAILED_FILE=$(mktemp)
+main | results_tee defects
+[ "$(cat "$FAILED_FILE")" = 0 ]

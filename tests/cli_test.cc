@@ -384,6 +384,8 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
       {"info " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gt-out " + (dir / "no" / "gt.tum").string(),
        "gt.tum: cannot write"},
       {"gt-check " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gap 0", "gap"},
+      {"run --out " + (dir / "o").string(), "DATASET is required"},
+      {"run --print-config --nc -1", "--nc -1"},
       {"frobnicate", ""},
       {"eval --ref", ""},
   };
@@ -392,6 +394,26 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
     EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
     EXPECT_TRUE(Contains(r.output, c.expected)) << c.args << "\n" << r.output;
   }
+}
+
+// `dsm run --print-config` writes a valid options file: read back with --config, it prints the
+// same; with a changed key the change shows, and the file runs.
+TEST(Cli, PrintConfigRoundTrips) {
+  const fs::path dir = ScratchDir("cli_print_config");
+  const Result defaults = RunDsm("run --print-config");
+  ASSERT_EQ(defaults.code, 0) << defaults.output;
+  EXPECT_TRUE(Contains(defaults.output, "\nwindow:\n  temporal_keyframes: 4  # ")) << defaults.output;
+  WriteText(dir / "all.yaml", defaults.output);
+  const Result again = RunDsm("run --print-config --config " + (dir / "all.yaml").string());
+  EXPECT_EQ(again.code, 0);
+  EXPECT_EQ(again.output, defaults.output);
+  const Result changed = RunDsm("run --print-config --nc 2 --config " + (dir / "all.yaml").string());
+  EXPECT_TRUE(Contains(changed.output, "\n  covisible_keyframes: 2  # ")) << changed.output;
+  ASSERT_EQ(RunDsm("synth --scene shake --frames 30 --width 160 --height 120 --out " + (dir / "seq").string()).code, 0);
+  const Result run = RunDsm("run " + (dir / "seq").string() + " --sequential --quiet --no-report --no-map --config " +
+                            (dir / "all.yaml").string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(run.code, 0) << run.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "keyframes.tum"));
 }
 
 nlohmann::json ReadJson(const fs::path& path) {

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/io/options_io.h"
 
+#include <charconv>
 #include <functional>
 #include <map>
+#include <sstream>
+#include <vector>
 
 #include "dsm/io/yaml_file.h"
 #include "dsm/util/check.h"
@@ -11,155 +14,279 @@ namespace dsm {
 
 namespace {
 
-using Setter = std::function<void(const YAML::Node&)>;
+// One option of a file: its key (section.name), how it is read from YAML, how its value is written
+// back (so that reading it gives the same value), and what it means.
+struct OptionEntry {
+  std::string key;
+  std::function<void(const YAML::Node&)> set;
+  std::function<std::string()> get;
+  std::string description;
+};
+
+// The shortest text that reads back as the same value.
+std::string Format(double v) {
+  char text[32];
+  const auto r = std::to_chars(text, text + sizeof(text), v);
+  return std::string(text, r.ptr);
+}
+std::string Format(float v) {
+  char text[32];
+  const auto r = std::to_chars(text, text + sizeof(text), v);
+  return std::string(text, r.ptr);
+}
+std::string Format(int v) { return std::to_string(v); }
+std::string Format(bool v) { return v ? "true" : "false"; }
+std::string Format(const std::string& v) { return v; }
+std::string Format(const std::vector<int>& v) {
+  std::string text = "[";
+  for (size_t i = 0; i < v.size(); ++i) text += (i ? ", " : "") + std::to_string(v[i]);
+  return text + "]";
+}
 
 template <typename T>
-Setter Set(T* field) {
-  return [field](const YAML::Node& n) { *field = n.as<T>(); };
+void Add(std::vector<OptionEntry>* e, std::string key, T* field, std::string description) {
+  e->push_back({std::move(key), [field](const YAML::Node& n) { *field = n.as<T>(); },
+                [field] { return Format(*field); }, std::move(description)});
 }
 
-std::map<std::string, Setter> Setters(SystemOptions* o) {
-  std::map<std::string, Setter> s;
-  s["system.pyramid_levels"] = Set(&o->pyramid_levels);
-  s["system.max_initialization_frames"] = Set(&o->max_initialization_frames);
-  s["system.keep_pyramid_keyframes"] = Set(&o->keep_pyramid_keyframes);
-  s["system.smoothing_sigma"] = Set(&o->smoothing_sigma);
-  s["system.smoothing_noise_threshold"] = Set(&o->smoothing_noise_threshold);
-  s["system.smoothing_auto_sigma"] = Set(&o->smoothing_auto_sigma);
-  s["system.interpolation"] = Set(&o->interpolation);
-  s["system.bspline_min_noise"] = Set(&o->bspline_min_noise);
-  s["system.texture_loss_min_noise"] = Set(&o->texture_loss_min_noise);
-  s["system.young_map_ba_first"] = Set(&o->young_map_ba_first);
-  s["system.young_map_ba_last"] = Set(&o->young_map_ba_last);
-  s["system.young_map_ba_step"] = Set(&o->young_map_ba_step);
-  s["system.loop_ba_min_gap"] = Set(&o->loop_ba_min_gap);
-  s["system.loop_ba_after_relocalisation"] = Set(&o->loop_ba_after_relocalisation);
-  s["system.seam_ba_count"] = Set(&o->seam_ba_count);
-  s["system.seam_ba_step"] = Set(&o->seam_ba_step);
-  s["system.seam_ba_before"] = Set(&o->seam_ba_before);
-  s["system.rejoin_min_outliers"] = Set(&o->rejoin_min_outliers);
-  s["system.loop_ba_max_keyframes"] = Set(&o->loop_ba_max_keyframes);
-  s["system.loop_ba_max_iterations"] = Set(&o->loop_ba_max_iterations);
-  s["initializer.max_corners"] = Set(&o->initializer.max_corners);
-  s["initializer.min_parallax_deg"] = Set(&o->initializer.min_parallax_deg);
-  s["initializer.max_homography_ratio"] = Set(&o->initializer.max_homography_ratio);
-  s["initializer.planar_start"] = Set(&o->initializer.planar_start);
-  s["initializer.min_track_share"] = Set(&o->initializer.min_track_share);
-  s["initializer.planar_min_homography_ratio"] = Set(&o->initializer.planar_min_homography_ratio);
-  s["initializer.planar_frame_gap"] = Set(&o->initializer.planar_frame_gap);
-  s["initializer.planar_normal_tolerance_deg"] = Set(&o->initializer.planar_normal_tolerance_deg);
-  s["initializer.min_inliers"] = Set(&o->initializer.min_inliers);
-  s["initializer.ransac_threshold_px"] = Set(&o->initializer.ransac_threshold_px);
-  s["initializer.track_from_reference"] = Set(&o->initializer.track_from_reference);
-  s["initializer.refine_motion"] = Set(&o->initializer.refine_motion);
-  s["initializer.refine_loss_px"] = Set(&o->initializer.refine_loss_px);
-  s["tracker.levels"] = Set(&o->tracker.levels);
-  s["tracker.iterations"] = Set(&o->tracker.iterations);
-  s["tracker.min_usage"] = Set(&o->tracker.min_usage);
-  s["tracker.convergence_px"] = Set(&o->tracker.convergence_px);
-  s["tracker.verified_reference"] = Set(&o->tracker.verified_reference);
-  s["tracker.max_alpha_step"] = Set(&o->tracker.max_alpha_step);
-  s["tracker.max_alpha_frames"] = Set(&o->tracker.max_alpha_frames);
-  s["candidates.target_count"] = Set(&o->candidates.target_count);
-  s["candidates.threshold_margin"] = Set(&o->candidates.threshold_margin);
-  s["candidates.noise_factor"] = Set(&o->candidates.noise_factor);
-  s["candidates.contrast_factor"] = Set(&o->candidates.contrast_factor);
-  s["candidates.contrast_min_noise"] = Set(&o->candidates.contrast_min_noise);
-  s["candidates.border"] = Set(&o->candidates.border);
-  s["epipolar.max_search_fraction"] = Set(&o->epipolar.max_search_fraction);
-  s["epipolar.min_search_px"] = Set(&o->epipolar.min_search_px);
-  s["epipolar.max_pixel_error"] = Set(&o->epipolar.max_pixel_error);
-  s["epipolar.max_energy"] = Set(&o->epipolar.max_energy);
-  s["activation.target_points"] = Set(&o->activation.target_points);
-  s["activation.max_pixel_interval"] = Set(&o->activation.max_pixel_interval);
-  s["activation.min_quality"] = Set(&o->activation.min_quality);
-  s["activation.refine_iterations"] = Set(&o->activation.refine_iterations);
-  s["activation.min_inlier_ratio"] = Set(&o->activation.min_inlier_ratio);
-  s["activation.initial_min_distance_px"] = Set(&o->activation.initial_min_distance_px);
-  s["keyframe.weight_parallax"] = Set(&o->keyframe.weight_parallax);
-  s["keyframe.weight_visibility"] = Set(&o->keyframe.weight_visibility);
-  s["keyframe.weight_brightness"] = Set(&o->keyframe.weight_brightness);
-  s["keyframe.residual_growth"] = Set(&o->keyframe.residual_growth);
-  s["quality.min_texture_ratio"] = Set(&o->quality.min_texture_ratio);
-  s["quality.min_relocalisation_texture_ratio"] = Set(&o->quality.min_relocalisation_texture_ratio);
-  s["quality.min_keyframe_texture_step"] = Set(&o->quality.min_keyframe_texture_step);
-  s["quality.min_turn_deg"] = Set(&o->quality.min_turn_deg);
-  s["quality.max_residual_ratio"] = Set(&o->quality.max_residual_ratio);
-  s["quality.max_relocalisation_residual_ratio"] = Set(&o->quality.max_relocalisation_residual_ratio);
-  s["quality.min_inlier_ratio"] = Set(&o->quality.min_inlier_ratio);
-  s["quality.max_rotation_deg"] = Set(&o->quality.max_rotation_deg);
-  s["quality.max_parallax"] = Set(&o->quality.max_parallax);
-  s["quality.max_speed_ratio"] = Set(&o->quality.max_speed_ratio);
-  s["quality.min_speed"] = Set(&o->quality.min_speed);
-  s["quality.history"] = Set(&o->quality.history);
-  s["quality.min_history"] = Set(&o->quality.min_history);
-  s["relocalisation.candidates"] = Set(&o->relocalisation.candidates);
-  s["relocalisation.max_lost_frames"] = Set(&o->relocalisation.max_lost_frames);
-  s["relocalisation.max_predicted_frames"] = Set(&o->relocalisation.max_predicted_frames);
-  s["relocalisation.young_map_frames"] = Set(&o->relocalisation.young_map_frames);
-  s["window.temporal_keyframes"] = Set(&o->window.temporal_keyframes);
-  s["window.min_visible_ratio"] = Set(&o->window.min_visible_ratio);
-  s["window.max_affine_change"] = Set(&o->window.max_affine_change);
-  s["window.covisible_keyframes"] = Set(&o->window.covisible_keyframes);
-  s["window.depleted_distance_px"] = Set(&o->window.depleted_distance_px);
-  s["window.max_view_angle_deg"] = Set(&o->window.max_view_angle_deg);
-  s["window.min_covisible_ratio"] = Set(&o->window.min_covisible_ratio);
-  s["window.max_scale_change"] = Set(&o->window.max_scale_change);
-  s["window.optimize_covisible_poses"] = Set(&o->window.optimize_covisible_poses);
-  s["occlusion.enabled"] = Set(&o->occlusion.enabled);
-  s["occlusion.cell_px"] = Set(&o->occlusion.cell_px);
-  s["occlusion.depth_ratio"] = Set(&o->occlusion.depth_ratio);
-  s["occlusion.min_occluders"] = Set(&o->occlusion.min_occluders);
-  s["occlusion.span_px"] = Set(&o->occlusion.span_px);
-  s["occlusion.candidate_interval"] = Set(&o->occlusion.candidate_interval);
-  s["occlusion.texture_check"] = Set(&o->occlusion.texture_check);
-  s["pba.levels"] = Set(&o->pba.levels);
-  s["pba.max_iterations"] = Set(&o->pba.max_iterations);
-  s["pba.initial_lambda"] = Set(&o->pba.initial_lambda);
-  s["pba.min_camera_observations"] = Set(&o->pba.min_camera_observations);
-  s["pba.min_link_ratio"] = Set(&o->pba.min_link_ratio);
-  s["pba.max_outside_observations"] = Set(&o->pba.max_outside_observations);
-  s["pba.max_outside_keyframes"] = Set(&o->pba.max_outside_keyframes);
-  s["pba.outside_observations_per_point"] = Set(&o->pba.outside_observations_per_point);
-  s["pba.drop_outlier_ratio"] = Set(&o->pba.drop_outlier_ratio);
-  s["pba.skip_outlier_ratio"] = Set(&o->pba.skip_outlier_ratio);
-  s["pba.max_sigma_ratio"] = Set(&o->pba.max_sigma_ratio);
-  s["pba.refit_all_models"] = Set(&o->pba.refit_all_models);
-  s["pba.texture_loss_ratio"] = Set(&o->pba.texture_loss.max_variance_ratio);
-  s["pba.texture_min_host_variance"] = Set(&o->pba.texture_loss.min_host_variance);
-  s["pba.texture_max_depth_ratio"] = Set(&o->pba.texture_loss.max_depth_ratio);
-  s["pba.texture_loss_in_energy"] = Set(&o->pba.texture_loss.in_energy);
+// Every option in the order --print-config writes them; pointers into `*o`.
+std::vector<OptionEntry> Entries(SystemOptions* o) {
+  std::vector<OptionEntry> e;
+  Add(&e, "system.pyramid_levels", &o->pyramid_levels,
+      "Levels of the image pyramids; the undistorted image size is rounded to divide by 2^(levels - 1).");
+  Add(&e, "system.max_initialization_frames", &o->max_initialization_frames,
+      "Frames the initialiser tries against one first frame before it starts over.");
+  Add(&e, "system.keep_pyramid_keyframes", &o->keep_pyramid_keyframes,
+      "A keyframe's pyramid is released when no mapping step used it in this many keyframes (rebuilt when needed).");
+  Add(&e, "system.smoothing_sigma", &o->smoothing_sigma,
+      "Gaussian smoothing of every frame, pixels; 0: none; negative: smoothing_auto_sigma on noisy images only.");
+  Add(&e, "system.smoothing_noise_threshold", &o->smoothing_noise_threshold,
+      "Automatic smoothing: the first frame's noise level (grey levels) from which frames are smoothed.");
+  Add(&e, "system.smoothing_auto_sigma", &o->smoothing_auto_sigma, "Automatic smoothing: its sigma, pixels.");
+  Add(&e, "system.interpolation", &o->interpolation,
+      "How residuals sample images: auto (cubic B-spline on noisy images, else bilinear) | bilinear | bspline.");
+  Add(&e, "system.bspline_min_noise", &o->bspline_min_noise,
+      "auto interpolation: the first frame's noise level (grey levels) from which the B-spline is used.");
+  Add(&e, "system.texture_loss_min_noise", &o->texture_loss_min_noise,
+      "--mode dsm: the noise level (grey levels) from which the texture-loss test applies in the error models' fit (0: "
+      "never).");
+  Add(&e, "system.young_map_ba_first", &o->young_map_ba_first,
+      "--mode dsm: the whole young map is bundle-adjusted at this many keyframes, then at twice as many ...");
+  Add(&e, "system.young_map_ba_last", &o->young_map_ba_last, "... up to this many keyframes (0: never).");
+  Add(&e, "system.young_map_ba_step", &o->young_map_ba_step,
+      "> 0: the young map is adjusted every this many keyframes instead of at doubling counts.");
+  Add(&e, "system.loop_ba_min_gap", &o->loop_ba_min_gap,
+      "--mode dsm: a keyframe whose covisible keyframes reach this many keyframes back starts a loop bundle adjustment "
+      "(0: off).");
+  Add(&e, "system.loop_ba_after_relocalisation", &o->loop_ba_after_relocalisation,
+      "The loop adjustment once after a relocalisation, and every this many keyframes from then on (0: never).");
+  Add(&e, "system.loop_ba_max_keyframes", &o->loop_ba_max_keyframes,
+      "The most keyframes a loop adjustment frees (the newest).");
+  Add(&e, "system.loop_ba_max_iterations", &o->loop_ba_max_iterations,
+      "LM iterations per level of a loop adjustment (0: as pba.max_iterations).");
+  Add(&e, "system.seam_ba_count", &o->seam_ba_count, "Adjustments of the seam a relocalisation leaves (0: none) ...");
+  Add(&e, "system.seam_ba_step", &o->seam_ba_step, "... one every this many keyframes after it ...");
+  Add(&e, "system.seam_ba_before", &o->seam_ba_before,
+      "... over this many keyframes before the loss and all after it.");
+  Add(&e, "system.rejoin_min_outliers", &o->rejoin_min_outliers,
+      "The part mapped after a relocalisation is moved onto the older map when a keyframe sees this many of its points "
+      "as outliers (0: never).");
+  Add(&e, "initializer.max_corners", &o->initializer.max_corners, "KLT corners tracked from the first frame.");
+  Add(&e, "initializer.min_parallax_deg", &o->initializer.min_parallax_deg,
+      "Median parallax of the corners before two views start the map, degrees.");
+  Add(&e, "initializer.max_homography_ratio", &o->initializer.max_homography_ratio,
+      "The two views are refused when homography inliers over essential-matrix inliers exceed this (a rotation or a "
+      "plane).");
+  Add(&e, "initializer.planar_start", &o->initializer.planar_start,
+      "Start from the homography when one plane fills the view.");
+  Add(&e, "initializer.planar_min_homography_ratio", &o->initializer.planar_min_homography_ratio,
+      "Planar start: the least homography over essential-matrix inlier ratio.");
+  Add(&e, "initializer.planar_frame_gap", &o->initializer.planar_frame_gap,
+      "Planar start: frames between the two homographies whose plane normals must agree.");
+  Add(&e, "initializer.planar_normal_tolerance_deg", &o->initializer.planar_normal_tolerance_deg,
+      "Planar start: how far those normals may differ, degrees.");
+  Add(&e, "initializer.min_inliers", &o->initializer.min_inliers, "The least RANSAC inliers of the two views.");
+  Add(&e, "initializer.ransac_threshold_px", &o->initializer.ransac_threshold_px, "RANSAC inlier threshold, pixels.");
+  Add(&e, "initializer.track_from_reference", &o->initializer.track_from_reference,
+      "Track each corner from the first frame every frame, not from the frame before.");
+  Add(&e, "initializer.refine_motion", &o->initializer.refine_motion, "Refine RANSAC's motion on all inliers.");
+  Add(&e, "initializer.refine_loss_px", &o->initializer.refine_loss_px, "Cauchy scale of that refinement, pixels.");
+  Add(&e, "initializer.min_track_share", &o->initializer.min_track_share,
+      "The initialiser starts over once fewer than this share of the first frame's corners are still tracked.");
+  Add(&e, "tracker.levels", &o->tracker.levels, "Pyramid levels of the frame alignment, coarse to fine.");
+  Add(&e, "tracker.iterations", &o->tracker.iterations, "Gauss-Newton iterations per level, finest first.");
+  Add(&e, "tracker.min_usage", &o->tracker.min_usage,
+      "Tracking fails below this share of the reference's points in view.");
+  Add(&e, "tracker.convergence_px", &o->tracker.convergence_px,
+      "An alignment has converged when the points move less than this, pixels.");
+  Add(&e, "tracker.verified_reference", &o->tracker.verified_reference,
+      "Track against the points whose observation in the keyframe the bundle adjustment verified (false: all that "
+      "project).");
+  Add(&e, "tracker.max_alpha_step", &o->tracker.max_alpha_step,
+      "A contrast change (log) beyond what the exposure explains by more than this is tracked again with the "
+      "brightness held.");
+  Add(&e, "tracker.max_alpha_frames", &o->tracker.max_alpha_frames,
+      "... per this many frames since the last trusted one.");
+  Add(&e, "candidates.target_count", &o->candidates.target_count, "Candidate points selected per keyframe.");
+  Add(&e, "candidates.threshold_margin", &o->candidates.threshold_margin,
+      "A candidate's gradient exceeds its block's median by this, grey levels.");
+  Add(&e, "candidates.noise_factor", &o->candidates.noise_factor,
+      "Gradient floor, in standard deviations of the image noise's gradient (0: none).");
+  Add(&e, "candidates.contrast_factor", &o->candidates.contrast_factor,
+      "Pattern contrast floor, in noise sigmas (0: none) ...");
+  Add(&e, "candidates.contrast_min_noise", &o->candidates.contrast_min_noise,
+      "... applied when the first frame's noise level reaches this, grey levels.");
+  Add(&e, "candidates.border", &o->candidates.border, "Pixels left free at the image border.");
+  Add(&e, "epipolar.max_search_fraction", &o->epipolar.max_search_fraction,
+      "Epipolar search length as a share of the image diagonal, when the depth range is unknown.");
+  Add(&e, "epipolar.min_search_px", &o->epipolar.min_search_px, "Shortest epipolar search, pixels.");
+  Add(&e, "epipolar.max_pixel_error", &o->epipolar.max_pixel_error,
+      "A trace whose uncertainty exceeds this is taken as a bad condition, pixels.");
+  Add(&e, "epipolar.max_energy", &o->epipolar.max_energy,
+      "The best match's energy above this is an outlier (grey levels squared over the pattern).");
+  Add(&e, "activation.target_points", &o->activation.target_points, "Active points wanted in the window.");
+  Add(&e, "activation.max_pixel_interval", &o->activation.max_pixel_interval,
+      "A candidate is activated once its last epipolar match's interval is below this, pixels.");
+  Add(&e, "activation.min_quality", &o->activation.min_quality,
+      "... and its match's quality (second best over best energy) above this.");
+  Add(&e, "activation.refine_iterations", &o->activation.refine_iterations,
+      "Gauss-Newton iterations of an activated point's depth against the window.");
+  Add(&e, "activation.min_inlier_ratio", &o->activation.min_inlier_ratio,
+      "Share of pattern pixels a target observation keeps after that refinement.");
+  Add(&e, "activation.initial_min_distance_px", &o->activation.initial_min_distance_px,
+      "Starting distance between activated points, pixels (adapted to reach target_points).");
+  Add(&e, "keyframe.weight_parallax", &o->keyframe.weight_parallax,
+      "Keyframe decision: weight of the parallax (translation over depth) ...");
+  Add(&e, "keyframe.weight_visibility", &o->keyframe.weight_visibility, "... of the share of points out of view ...");
+  Add(&e, "keyframe.weight_brightness", &o->keyframe.weight_brightness,
+      "... and of the brightness change; a keyframe when their sum exceeds 1.");
+  Add(&e, "keyframe.residual_growth", &o->keyframe.residual_growth,
+      "A keyframe as well when the tracking RMSE grows this much over the first frame's after the keyframe.");
+  Add(&e, "quality.min_texture_ratio", &o->quality.min_texture_ratio,
+      "A frame with less than this share of the usual texture is lost (black, covered).");
+  Add(&e, "quality.min_relocalisation_texture_ratio", &o->quality.min_relocalisation_texture_ratio,
+      "A lost frame with less relocalises only by three sightings that move as one camera.");
+  Add(&e, "quality.min_keyframe_texture_step", &o->quality.min_keyframe_texture_step,
+      "A frame whose texture fell below this share of the frame before's makes no keyframe.");
+  Add(&e, "quality.max_residual_ratio", &o->quality.max_residual_ratio,
+      "A frame whose median residual exceeds this multiple of the usual is lost.");
+  Add(&e, "quality.max_relocalisation_residual_ratio", &o->quality.max_relocalisation_residual_ratio,
+      "The same bound for a relocalisation.");
+  Add(&e, "quality.min_inlier_ratio", &o->quality.min_inlier_ratio,
+      "A frame with less than this share of inlier residuals is lost.");
+  Add(&e, "quality.max_rotation_deg", &o->quality.max_rotation_deg,
+      "A frame that turned more than this from the last trusted one is lost, degrees per frame.");
+  Add(&e, "quality.max_parallax", &o->quality.max_parallax,
+      "A frame farther than this from its reference (translation over depth) is lost.");
+  Add(&e, "quality.max_speed_ratio", &o->quality.max_speed_ratio,
+      "A relocalised pose must lie within this multiple of the speed before the loss ...");
+  Add(&e, "quality.min_speed", &o->quality.min_speed, "... plus this share of the mean depth, per lost frame.");
+  Add(&e, "quality.min_turn_deg", &o->quality.min_turn_deg,
+      "... and within this turn of the prediction per lost frame, degrees.");
+  Add(&e, "quality.history", &o->quality.history, "Trusted frames the usual texture and residual are the medians of.");
+  Add(&e, "quality.min_history", &o->quality.min_history, "Values the usual levels need before they judge.");
+  Add(&e, "relocalisation.candidates", &o->relocalisation.candidates,
+      "Keyframes a lost frame is aligned with besides its reference.");
+  Add(&e, "relocalisation.max_lost_frames", &o->relocalisation.max_lost_frames,
+      "Failed relocalisations in a row before a new map starts (0: never).");
+  Add(&e, "relocalisation.max_predicted_frames", &o->relocalisation.max_predicted_frames,
+      "Lost frames during which the motion's prediction can accept a relocalisation (after: three sightings).");
+  Add(&e, "relocalisation.young_map_frames", &o->relocalisation.young_map_frames,
+      "A map that tracked at most this many frames is given up after max_predicted_frames failures.");
+  Add(&e, "window.temporal_keyframes", &o->window.temporal_keyframes,
+      "N_t: temporal keyframes of the window, the newest included.");
+  Add(&e, "window.min_visible_ratio", &o->window.min_visible_ratio,
+      "A temporal keyframe with less than this share of its points in the newest keyframe leaves the window.");
+  Add(&e, "window.max_affine_change", &o->window.max_affine_change,
+      "... as does one whose brightness differs by more than this (log).");
+  Add(&e, "window.covisible_keyframes", &o->window.covisible_keyframes,
+      "N_c: covisible old keyframes of the window (--mode dsm).");
+  Add(&e, "window.depleted_distance_px", &o->window.depleted_distance_px,
+      "A pixel this far from every projected window point is depleted, pixels.");
+  Add(&e, "window.max_view_angle_deg", &o->window.max_view_angle_deg,
+      "A covisible keyframe looks within this angle of the newest, degrees.");
+  Add(&e, "window.min_covisible_ratio", &o->window.min_covisible_ratio,
+      "Share of a keyframe's points that must land in depleted areas for it to be covisible.");
+  Add(&e, "window.max_scale_change", &o->window.max_scale_change,
+      "Old points seen at a scale within this ratio count as mapped places.");
+  Add(&e, "window.optimize_covisible_poses", &o->window.optimize_covisible_poses,
+      "Optimise the covisible keyframes' poses, as the paper does (false: held, their points optimised).");
+  Add(&e, "occlusion.enabled", &o->occlusion.enabled,
+      "A point hidden behind nearer map points gets no observation in a new keyframe.");
+  Add(&e, "occlusion.cell_px", &o->occlusion.cell_px, "Cell of the occlusion grid, pixels.");
+  Add(&e, "occlusion.depth_ratio", &o->occlusion.depth_ratio,
+      "A point is nearer when its depth is below the other's over this ratio.");
+  Add(&e, "occlusion.min_occluders", &o->occlusion.min_occluders, "Nearer points around a projection that hide it.");
+  Add(&e, "occlusion.span_px", &o->occlusion.span_px,
+      "How far on each side nearer points are looked for by texture_check between, pixels.");
+  Add(&e, "occlusion.texture_check", &o->occlusion.texture_check,
+      "When the image is asked whether a plain near surface hides a point: none | between | all.");
+  Add(&e, "occlusion.candidate_interval", &o->occlusion.candidate_interval,
+      "> 0: candidates whose depth interval is below this hide points too (0: only points).");
+  Add(&e, "pba.levels", &o->pba.levels, "N_p: pyramid levels of the bundle adjustment, coarse to fine.");
+  Add(&e, "pba.max_iterations", &o->pba.max_iterations, "LM iterations per level.");
+  Add(&e, "pba.initial_lambda", &o->pba.initial_lambda, "LM's starting damping.");
+  Add(&e, "pba.min_camera_observations", &o->pba.min_camera_observations,
+      "An active keyframe in fewer observations stays fixed.");
+  Add(&e, "pba.min_link_ratio", &o->pba.min_link_ratio,
+      "An active keyframe tied by less than this share of the observations that once placed it is held.");
+  Add(&e, "pba.max_outside_observations", &o->pba.max_outside_observations,
+      "Per point of a held keyframe: its newest observations outside the window that enter the problem.");
+  Add(&e, "pba.max_outside_keyframes", &o->pba.max_outside_keyframes,
+      "The most keyframes outside the window whose observations enter the problem (0: all).");
+  Add(&e, "pba.outside_observations_per_point", &o->pba.outside_observations_per_point,
+      "> 0: each point's newest this many observations outside the window (0: max_outside_observations).");
+  Add(&e, "pba.drop_outlier_ratio", &o->pba.drop_outlier_ratio,
+      "After the adjustment, an observation with more than this share of outlier pixels is removed.");
+  Add(&e, "pba.skip_outlier_ratio", &o->pba.skip_outlier_ratio,
+      "During it, one with more than this share gets no weight.");
+  Add(&e, "pba.max_sigma_ratio", &o->pba.max_sigma_ratio,
+      "A keyframe's fitted error scale is bounded by this multiple of the problem's median (0: free).");
+  Add(&e, "pba.refit_all_models", &o->pba.refit_all_models,
+      "Refit every keyframe's error model in each adjustment (false: the newest only, as the original DSM).");
+  Add(&e, "pba.texture_loss_ratio", &o->pba.texture_loss.max_variance_ratio,
+      "> 0: an observation whose target keeps less than this share of its pattern's variance has lost its texture (0: "
+      "see system.texture_loss_min_noise).");
+  Add(&e, "pba.texture_min_host_variance", &o->pba.texture_loss.min_host_variance,
+      "The texture-loss test judges patterns of at least this variance in their host, grey levels squared.");
+  Add(&e, "pba.texture_max_depth_ratio", &o->pba.texture_loss.max_depth_ratio,
+      "... seen at most this much deeper in the target than in the host.");
+  Add(&e, "pba.texture_loss_in_energy", &o->pba.texture_loss.in_energy,
+      "An observation whose texture is lost leaves the energy too (false: the models' fit and the removal only).");
   // The robust function applies to the bundle adjustment and the tracker alike.
-  s["robust.function"] = [o](const YAML::Node& n) {
-    const RobustKind kind = ParseRobustKind(n.as<std::string>(), "robust.function");
-    o->pba.robust.kind = kind;
-    o->tracker.robust.kind = kind;
+  RobustOptions* pba = &o->pba.robust;
+  RobustOptions* tracker = &o->tracker.robust;
+  e.push_back({"robust.function",
+               [pba, tracker](const YAML::Node& n) {
+                 pba->kind = tracker->kind = ParseRobustKind(n.as<std::string>(), "robust.function");
+               },
+               [pba] { return RobustKindName(pba->kind); },
+               "t | huber | huber-mad: the robust function of the bundle adjustment and the tracker."});
+  const auto both = [&](std::string key, auto member, std::string description) {
+    e.push_back({std::move(key),
+                 [=](const YAML::Node& n) {
+                   using T = std::decay_t<decltype(pba->*member)>;
+                   pba->*member = tracker->*member = n.as<T>();
+                 },
+                 [=] { return Format(pba->*member); }, std::move(description)});
   };
-  s["robust.huber_threshold"] = [o](const YAML::Node& n) {
-    o->pba.robust.huber_threshold = o->tracker.robust.huber_threshold = n.as<double>();
-  };
-  s["robust.inlier_quantile"] = [o](const YAML::Node& n) {
-    o->pba.robust.inlier_quantile = o->tracker.robust.inlier_quantile = n.as<double>();
-  };
-  s["robust.gross_residual"] = [o](const YAML::Node& n) {
-    o->pba.robust.gross_residual = o->tracker.robust.gross_residual = n.as<double>();
-  };
-  s["robust.min_nu"] = [o](const YAML::Node& n) { o->pba.robust.min_nu = o->tracker.robust.min_nu = n.as<double>(); };
-  s["robust.outlier_mixture"] = [o](const YAML::Node& n) {
-    o->pba.robust.outlier_mixture = o->tracker.robust.outlier_mixture = n.as<bool>();
-  };
-  return s;
+  both("robust.huber_threshold", &RobustOptions::huber_threshold, "Huber's fixed threshold, grey levels.");
+  both("robust.inlier_quantile", &RobustOptions::inlier_quantile,
+       "Quantile of the fitted model that bounds inlier pixels.");
+  both("robust.gross_residual", &RobustOptions::gross_residual,
+       "Residuals beyond this are outliers of any model, grey levels.");
+  both("robust.min_nu", &RobustOptions::min_nu, "Lower bound of the t-distribution's fitted degrees of freedom.");
+  both("robust.outlier_mixture", &RobustOptions::outlier_mixture,
+       "Fit each model as a t mixed with a uniform outlier component.");
+  return e;
 }
-
-}  // namespace
-
-namespace {
 
 // `source` names the options in messages (a file, or "options").
 void ApplyOptionsNode(const YAML::Node& root, const std::filesystem::path& source, SystemOptions* options) {
   if (root.IsNull()) return;
   if (!root.IsMap()) throw InputError(source.string() + ": expected a mapping of sections");
-  const auto setters = Setters(options);
+  std::map<std::string, std::function<void(const YAML::Node&)>> setters;
+  for (OptionEntry& entry : Entries(options)) setters[entry.key] = std::move(entry.set);
   for (const auto& section : root) {
     const std::string name = KeyName(section.first, source);
     if (!section.second.IsMap()) throw InputError(source.string() + ": section '" + name + "' must be a mapping");
@@ -195,6 +322,22 @@ void ApplyOptionsText(const std::string& text, const std::string& source, System
     throw InputError(source + ": not valid YAML (" + e.what() + ")");
   }
   ApplyOptionsNode(root, source, options);
+}
+
+std::string OptionsYaml(const SystemOptions& options) {
+  SystemOptions copy = options;
+  std::ostringstream out;
+  out << "# dsm options: every key with its value and what it means (dsm run --config FILE reads this).\n";
+  std::string section;
+  for (const OptionEntry& entry : Entries(&copy)) {
+    const size_t dot = entry.key.find('.');
+    if (entry.key.substr(0, dot) != section) {
+      section = entry.key.substr(0, dot);
+      out << section << ":\n";
+    }
+    out << "  " << entry.key.substr(dot + 1) << ": " << entry.get() << "  # " << entry.description << "\n";
+  }
+  return out.str();
 }
 
 }  // namespace dsm

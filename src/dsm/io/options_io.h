@@ -17,5 +17,8 @@ namespace dsm {
 void ApplyOptionsYaml(const std::filesystem::path& path, SystemOptions* options);
 // The same from text (YAML, or JSON, which is YAML too); `source` names it in messages.
 void ApplyOptionsText(const std::string& text, const std::string& source, SystemOptions* options);
+// Every option a file can set, with its value in `options` and a one-line description, as an
+// option file: ApplyOptionsText of it gives `options` back.
+std::string OptionsYaml(const SystemOptions& options);
 
 }  // namespace dsm

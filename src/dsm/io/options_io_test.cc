@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/io/options_io.h"
 
+#include <regex>
+#include <sstream>
+
 #include <gtest/gtest.h>
 
 #include "dsm/testing/input_error.h"
@@ -40,6 +43,55 @@ TEST(OptionsYaml, NoFileNoSettings) {
   WriteText(dir / "key.yaml", "occlusion: {candidate_share: 0.25}\n");
   EXPECT_NE(MessageOf([&] { ApplyOptionsYaml(dir / "key.yaml", &options); }).find("occlusion.candidate_share"),
             std::string::npos);
+}
+
+// --print-config's text: every key once, each with a value and a description, and read back it
+// gives the options it was written from (defaults, and values that text could round: a double
+// with no short decimal form, a float, a list, a name, the robust keys that set two models).
+TEST(OptionsYaml, PrintedOptionsReadBackTheSame) {
+  const SystemOptions defaults;
+  const std::string text = OptionsYaml(defaults);
+  std::istringstream lines(text);
+  std::string line;
+  int keys = 0, sections = 0;
+  const std::regex key_line(R"(  [a-z_]+: (\[[0-9, ]*\]|[^ #]+)  # [-A-Za-z>.0-9_].{9,})");
+  while (std::getline(lines, line)) {
+    if (line.rfind("#", 0) == 0) continue;
+    if (line.rfind("  ", 0) != 0) {
+      ++sections;
+      continue;
+    }
+    ++keys;
+    EXPECT_TRUE(std::regex_match(line, key_line)) << line;
+  }
+  EXPECT_EQ(keys, 115);
+  EXPECT_EQ(sections, 13);
+  SystemOptions back;
+  back.pba.levels = 1;  // Overwritten by the text.
+  ApplyOptionsText(text, "printed", &back);
+  EXPECT_EQ(OptionsYaml(back), text);
+  EXPECT_EQ(back.pba.levels, defaults.pba.levels);
+
+  SystemOptions changed;
+  changed.pba.initial_lambda = 0.1 + 0.2;  // 0.30000000000000004
+  changed.candidates.threshold_margin = 1.f / 3.f;
+  changed.tracker.iterations = {3, 4, 5, 6};
+  changed.interpolation = "bspline";
+  changed.occlusion.texture_check = "between";
+  changed.pba.robust.kind = changed.tracker.robust.kind = RobustKind::kHuberMad;
+  changed.pba.robust.min_nu = changed.tracker.robust.min_nu = 2.5;
+  changed.window.optimize_covisible_poses = true;
+  const std::string changed_text = OptionsYaml(changed);
+  EXPECT_NE(changed_text, text);
+  SystemOptions read;
+  ApplyOptionsText(changed_text, "printed", &read);
+  EXPECT_EQ(OptionsYaml(read), changed_text);
+  EXPECT_EQ(read.pba.initial_lambda, 0.1 + 0.2);
+  EXPECT_EQ(read.candidates.threshold_margin, 1.f / 3.f);
+  EXPECT_EQ(read.tracker.iterations, (std::vector<int>{3, 4, 5, 6}));
+  EXPECT_EQ(read.tracker.robust.kind, RobustKind::kHuberMad);
+  EXPECT_EQ(read.tracker.robust.min_nu, 2.5);
+  EXPECT_TRUE(read.window.optimize_covisible_poses);
 }
 
 }  // namespace

@@ -1,0 +1,47 @@
+# Sourced by scripts/benchmark.sh, defects.sh and ablation.sh: their tables go into docs/results.md
+# (DSM_RESULTS: another file; "-": none), each between the markers of its section
+#   <!-- results:SECTION -->  ...  <!-- /results:SECTION -->
+# under a line that says which script wrote it, when, at which commit and on which machine. The
+# section `accuracy` also goes into the README's results table, between the same markers.
+#
+#   some_command | results_tee SECTION    prints what it reads and, at its end, writes the section
+RESULTS_FILE="${DSM_RESULTS-docs/results.md}"
+
+# The provenance line of a section written now by `$0 $*`.
+results_provenance() {
+  local commit dirty="" cpu
+  commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+  if [ -n "$(git status --porcelain --untracked-files=no 2>/dev/null)" ]; then dirty=" with uncommitted changes"; fi
+  cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null)
+  echo "Written by \`scripts/$(basename "$0")${RESULTS_ARGS:+ $RESULTS_ARGS}\` on $(date -u '+%Y-%m-%d %H:%M') UTC at commit $commit$dirty, on ${cpu:-an unknown CPU} ($(nproc) cores)."
+}
+
+# Replaces (or appends) section $1 of file $2 with the contents of file $3.
+results_replace() {
+  local section=$1 file=$2 body=$3 tmp
+  tmp=$(mktemp)
+  if [ -f "$file" ] && grep -q "^<!-- results:$section -->$" "$file"; then
+    awk -v begin="<!-- results:$section -->" -v end="<!-- /results:$section -->" -v body="$body" '
+      $0 == begin { print; while ((getline line < body) > 0) print line; skip = 1; next }
+      $0 == end { skip = 0 }
+      !skip { print }' "$file" >"$tmp"
+  else
+    { [ -f "$file" ] && cat "$file"; echo; echo "<!-- results:$section -->"; cat "$body"; echo "<!-- /results:$section -->"; } >"$tmp"
+  fi
+  mv "$tmp" "$file"
+}
+
+results_tee() {
+  local section=$1 table body
+  table=$(mktemp)
+  tee "$table"
+  [ "$RESULTS_FILE" = "-" ] && { rm -f "$table"; return 0; }
+  body=$(mktemp)
+  { results_provenance; echo; cat "$table"; } >"$body"
+  results_replace "$section" "$RESULTS_FILE" "$body"
+  if [ "$section" = accuracy ] && [ -f README.md ] && grep -q "^<!-- results:accuracy -->$" README.md; then
+    results_replace accuracy README.md "$body"
+  fi
+  rm -f "$table" "$body"
+  echo "results: section '$section' written to $RESULTS_FILE" >&2
+}
