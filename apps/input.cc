@@ -8,7 +8,7 @@ namespace dsm::cli {
 void AddVideoOptions(CLI::App& app, VideoArgs* args) {
   app.add_option("--calib", args->calib,
                  "Video input: the camera calibration, a camera.yaml (model pinhole | radtan | equidistant | fov; "
-                 "see README)");
+                 "see the README's folder format)");
   app.add_option("--groundtruth", args->ground_truth,
                  "Video input: ground-truth camera poses (world_from_cam; TUM, EuRoC or KITTI file) on the "
                  "video's clock");

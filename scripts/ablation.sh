@@ -42,11 +42,7 @@
 # DSM_BIN=path runs this dsm binary (no set-up or build).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-header() {
-  echo "| sequence | config | KF ATE (mm) | keyframes | map points | points created | PBA ms/KF (mean) | runs | ATE per seed (mm) |"
-  echo "|---|---|---|---|---|---|---|---|---|"
-}
-if [ "${1:-}" = --print-header ]; then header; exit 0; fi
+RESULTS_COLUMNS=("sequence" "config" "KF ATE (mm)" "keyframes" "map points" "points created" "PBA ms/KF (mean)" "runs" "ATE per seed (mm)")
 source scripts/results.sh
 RESULTS_ARGS="$*"
 
@@ -73,7 +69,7 @@ for seed in $SEEDS; do
 done
 
 source scripts/dsm_binary.sh
-DATA="$(pwd)/../shared/data"
+DATA="$(cd "${DSM_SHARED_DATA_DIR:-../shared/data}" && pwd)"
 mkdir -p "$WORK"
 printf 'window:\n  optimize_covisible_poses: true\n' > "$WORK/move-covisible.yaml"
 printf 'robust:\n  outlier_mixture: true\n' > "$WORK/mixture.yaml"
@@ -147,7 +143,7 @@ printf '%s\n' "${jobs_list[@]}" | xargs -P "$JOBS" -I{} sh -c '{} || echo "faile
 
 # One row per sequence and config: medians over the seeds' runs that finished.
 table() {
-header
+results_header
 for s in $SEQUENCES; do
   names=$(runs_for "$s" | cut -d' ' -f1)
   for c in $CONFIGS; do

@@ -13,11 +13,7 @@
 # speed drifts from hour to hour. The output is also written to docs/results.md (scripts/results.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-header() {
-  echo "| sequence | pace | frames | KF | tracking ms median / p90 | PBA ms/KF mean / KF 100–200 / last 100 | fps | real-time factor | dropped | latency ms median / p90 / p90 of the kept pose | peak RSS MB | KF ATE mm |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
-}
-if [ "${1:-}" = --print-header ]; then header; exit 0; fi
+RESULTS_COLUMNS=("sequence" "pace" "frames" "KF" "tracking ms median / p90" "PBA ms/KF mean / KF 100–200 / last 100" "fps" "real-time factor" "dropped" "latency ms median / p90 / p90 of the kept pose" "peak RSS MB" "KF ATE mm")
 source scripts/results.sh
 RESULTS_ARGS="${DSM_BENCH_QUICK:+(DSM_BENCH_QUICK=$DSM_BENCH_QUICK)}"
 # The kernels' programs are built with every target.
@@ -81,7 +77,7 @@ run_free() {  # run_free NAME DATASET
 }
 
 main() {
-header
+results_header
 SEQS=()
 if [ -d "$DATA/euroc_mh01_shake" ]; then SEQS+=("euroc_mh01|$DATA/euroc_mh01_shake"); fi
 for s in "${SCENES[@]}"; do

@@ -22,11 +22,7 @@
 # table is also written to docs/results.md (scripts/results.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-header() {
-  echo "| scene | seed | exit | maps | relocalisations | lost episodes | not caught / not regained | keyframes in defects | ATE clean mm | ATE mm | ratio | verdict |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
-}
-if [ "${1:-}" = --print-header ]; then header; exit 0; fi
+RESULTS_COLUMNS=("scene" "seed" "exit" "maps" "relocalisations" "lost episodes" "not caught / not regained" "keyframes in defects" "ATE clean mm" "ATE mm" "ratio" "verdict")
 source scripts/results.sh
 source scripts/dsm_binary.sh
 WORK="${1:-/tmp/dsm_defects}"
@@ -102,7 +98,7 @@ judge() {
 }
 
 main() {
-header
+results_header
 failed=0
 total=0
 for scene in "${SCENES[@]}"; do

@@ -4,8 +4,25 @@
 # under a line that says which script wrote it, when, at which commit and on which machine. The
 # section `accuracy` also goes into the README's results table, between the same markers.
 #
+#   RESULTS_COLUMNS=(name ...)            the table's columns, set before this file is sourced
+#   results_header                        prints the table's header
 #   some_command | results_tee SECTION    prints what it reads and, at its end, writes the section
+# A script called with --print-header prints its header and ends here (the format a test checks).
 RESULTS_FILE="${DSM_RESULTS-docs/results.md}"
+
+results_header() {
+  local column line="|" rule="|"
+  for column in "${RESULTS_COLUMNS[@]}"; do
+    line+=" $column |"
+    rule+="---|"
+  done
+  echo "$line"
+  echo "$rule"
+}
+if [ "${1:-}" = --print-header ]; then
+  results_header
+  exit 0
+fi
 
 # The provenance line of a section written now by `$0 $*`.
 results_provenance() {

@@ -56,17 +56,10 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "Levels of the image pyramids; the undistorted image size is rounded to divide by 2^(levels - 1).");
   Add(&e, "system.max_initialization_frames", &o->max_initialization_frames,
       "Frames the initialiser tries against one first frame before it starts over.");
-  Add(&e, "system.keep_pyramid_keyframes", &o->keep_pyramid_keyframes,
-      "A keyframe's pyramid is released when no mapping step used it in this many keyframes (rebuilt when needed).");
   Add(&e, "system.smoothing_sigma", &o->smoothing_sigma,
       "Gaussian smoothing of every frame, pixels; 0: none; negative: smoothing_auto_sigma on noisy images only.");
-  Add(&e, "system.smoothing_noise_threshold", &o->smoothing_noise_threshold,
-      "Automatic smoothing: the first frame's noise level (grey levels) from which frames are smoothed.");
-  Add(&e, "system.smoothing_auto_sigma", &o->smoothing_auto_sigma, "Automatic smoothing: its sigma, pixels.");
   Add(&e, "system.interpolation", &o->interpolation,
       "How residuals sample images: auto (cubic B-spline on noisy images, else bilinear) | bilinear | bspline.");
-  Add(&e, "system.bspline_min_noise", &o->bspline_min_noise,
-      "auto interpolation: the first frame's noise level (grey levels) from which the B-spline is used.");
   Add(&e, "system.texture_loss_min_noise", &o->texture_loss_min_noise,
       "--mode dsm: the noise level (grey levels) from which the texture-loss test applies in the error models' fit (0: "
       "never).");
@@ -91,40 +84,22 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
   Add(&e, "system.rejoin_min_outliers", &o->rejoin_min_outliers,
       "The part mapped after a relocalisation is moved onto the older map when a keyframe sees this many of its points "
       "as outliers (0: never).");
-  Add(&e, "initializer.max_corners", &o->initializer.max_corners, "KLT corners tracked from the first frame.");
   Add(&e, "initializer.min_parallax_deg", &o->initializer.min_parallax_deg,
       "Median parallax of the corners before two views start the map, degrees.");
-  Add(&e, "initializer.max_homography_ratio", &o->initializer.max_homography_ratio,
-      "The two views are refused when homography inliers over essential-matrix inliers exceed this (a rotation or a "
-      "plane).");
   Add(&e, "initializer.planar_start", &o->initializer.planar_start,
       "Start from the homography when one plane fills the view.");
-  Add(&e, "initializer.planar_min_homography_ratio", &o->initializer.planar_min_homography_ratio,
-      "Planar start: the least homography over essential-matrix inlier ratio.");
-  Add(&e, "initializer.planar_frame_gap", &o->initializer.planar_frame_gap,
-      "Planar start: frames between the two homographies whose plane normals must agree.");
-  Add(&e, "initializer.planar_normal_tolerance_deg", &o->initializer.planar_normal_tolerance_deg,
-      "Planar start: how far those normals may differ, degrees.");
-  Add(&e, "initializer.min_inliers", &o->initializer.min_inliers, "The least RANSAC inliers of the two views.");
-  Add(&e, "initializer.ransac_threshold_px", &o->initializer.ransac_threshold_px, "RANSAC inlier threshold, pixels.");
   Add(&e, "initializer.track_from_reference", &o->initializer.track_from_reference,
       "Track each corner from the first frame every frame, not from the frame before.");
   Add(&e, "initializer.refine_motion", &o->initializer.refine_motion, "Refine RANSAC's motion on all inliers.");
-  Add(&e, "initializer.refine_loss_px", &o->initializer.refine_loss_px, "Cauchy scale of that refinement, pixels.");
   Add(&e, "initializer.min_track_share", &o->initializer.min_track_share,
       "The initialiser starts over once fewer than this share of the first frame's corners are still tracked.");
   Add(&e, "tracker.levels", &o->tracker.levels, "Pyramid levels of the frame alignment, coarse to fine.");
   Add(&e, "tracker.iterations", &o->tracker.iterations, "Gauss-Newton iterations per level, finest first.");
   Add(&e, "tracker.min_usage", &o->tracker.min_usage,
       "Tracking fails below this share of the reference's points in view.");
-  Add(&e, "tracker.convergence_px", &o->tracker.convergence_px,
-      "An alignment has converged when the points move less than this, pixels.");
   Add(&e, "tracker.verified_reference", &o->tracker.verified_reference,
       "Track against the points whose observation in the keyframe the bundle adjustment verified (false: all that "
       "project).");
-  Add(&e, "tracker.max_alpha_step", &o->tracker.max_alpha_step,
-      "A contrast change (log) beyond what the exposure explains by more than this is tracked again with the "
-      "brightness held.");
   Add(&e, "tracker.max_alpha_frames", &o->tracker.max_alpha_frames,
       "... per this many frames since the last trusted one.");
   Add(&e, "candidates.target_count", &o->candidates.target_count, "Candidate points selected per keyframe.");
@@ -134,55 +109,21 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "Gradient floor, in standard deviations of the image noise's gradient (0: none).");
   Add(&e, "candidates.contrast_factor", &o->candidates.contrast_factor,
       "Pattern contrast floor, in noise sigmas (0: none) ...");
-  Add(&e, "candidates.contrast_min_noise", &o->candidates.contrast_min_noise,
-      "... applied when the first frame's noise level reaches this, grey levels.");
   Add(&e, "candidates.border", &o->candidates.border, "Pixels left free at the image border.");
-  Add(&e, "epipolar.max_search_fraction", &o->epipolar.max_search_fraction,
-      "Epipolar search length as a share of the image diagonal, when the depth range is unknown.");
-  Add(&e, "epipolar.min_search_px", &o->epipolar.min_search_px, "Shortest epipolar search, pixels.");
-  Add(&e, "epipolar.max_pixel_error", &o->epipolar.max_pixel_error,
-      "A trace whose uncertainty exceeds this is taken as a bad condition, pixels.");
-  Add(&e, "epipolar.max_energy", &o->epipolar.max_energy,
-      "The best match's energy above this is an outlier (grey levels squared over the pattern).");
   Add(&e, "activation.target_points", &o->activation.target_points, "Active points wanted in the window.");
-  Add(&e, "activation.max_pixel_interval", &o->activation.max_pixel_interval,
-      "A candidate is activated once its last epipolar match's interval is below this, pixels.");
-  Add(&e, "activation.min_quality", &o->activation.min_quality,
-      "... and its match's quality (second best over best energy) above this.");
-  Add(&e, "activation.refine_iterations", &o->activation.refine_iterations,
-      "Gauss-Newton iterations of an activated point's depth against the window.");
-  Add(&e, "activation.min_inlier_ratio", &o->activation.min_inlier_ratio,
-      "Share of pattern pixels a target observation keeps after that refinement.");
-  Add(&e, "activation.initial_min_distance_px", &o->activation.initial_min_distance_px,
-      "Starting distance between activated points, pixels (adapted to reach target_points).");
   Add(&e, "keyframe.weight_parallax", &o->keyframe.weight_parallax,
       "Keyframe decision: weight of the parallax (translation over depth) ...");
   Add(&e, "keyframe.weight_visibility", &o->keyframe.weight_visibility, "... of the share of points out of view ...");
   Add(&e, "keyframe.weight_brightness", &o->keyframe.weight_brightness,
       "... and of the brightness change; a keyframe when their sum exceeds 1.");
-  Add(&e, "keyframe.residual_growth", &o->keyframe.residual_growth,
-      "A keyframe as well when the tracking RMSE grows this much over the first frame's after the keyframe.");
   Add(&e, "quality.min_texture_ratio", &o->quality.min_texture_ratio,
       "A frame with less than this share of the usual texture is lost (black, covered).");
   Add(&e, "quality.min_relocalisation_texture_ratio", &o->quality.min_relocalisation_texture_ratio,
       "A lost frame with less relocalises only by three sightings that move as one camera.");
-  Add(&e, "quality.min_keyframe_texture_step", &o->quality.min_keyframe_texture_step,
-      "A frame whose texture fell below this share of the frame before's makes no keyframe.");
   Add(&e, "quality.max_residual_ratio", &o->quality.max_residual_ratio,
       "A frame whose median residual exceeds this multiple of the usual is lost.");
-  Add(&e, "quality.max_relocalisation_residual_ratio", &o->quality.max_relocalisation_residual_ratio,
-      "The same bound for a relocalisation.");
-  Add(&e, "quality.min_inlier_ratio", &o->quality.min_inlier_ratio,
-      "A frame with less than this share of inlier residuals is lost.");
   Add(&e, "quality.max_rotation_deg", &o->quality.max_rotation_deg,
       "A frame that turned more than this from the last trusted one is lost, degrees per frame.");
-  Add(&e, "quality.max_parallax", &o->quality.max_parallax,
-      "A frame farther than this from its reference (translation over depth) is lost.");
-  Add(&e, "quality.max_speed_ratio", &o->quality.max_speed_ratio,
-      "A relocalised pose must lie within this multiple of the speed before the loss ...");
-  Add(&e, "quality.min_speed", &o->quality.min_speed, "... plus this share of the mean depth, per lost frame.");
-  Add(&e, "quality.min_turn_deg", &o->quality.min_turn_deg,
-      "... and within this turn of the prediction per lost frame, degrees.");
   Add(&e, "quality.history", &o->quality.history, "Trusted frames the usual texture and residual are the medians of.");
   Add(&e, "quality.min_history", &o->quality.min_history, "Values the usual levels need before they judge.");
   Add(&e, "relocalisation.candidates", &o->relocalisation.candidates,
@@ -195,20 +136,10 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "A map that tracked at most this many frames is given up after max_predicted_frames failures.");
   Add(&e, "window.temporal_keyframes", &o->window.temporal_keyframes,
       "N_t: temporal keyframes of the window, the newest included.");
-  Add(&e, "window.min_visible_ratio", &o->window.min_visible_ratio,
-      "A temporal keyframe with less than this share of its points in the newest keyframe leaves the window.");
-  Add(&e, "window.max_affine_change", &o->window.max_affine_change,
-      "... as does one whose brightness differs by more than this (log).");
   Add(&e, "window.covisible_keyframes", &o->window.covisible_keyframes,
       "N_c: covisible old keyframes of the window (--mode dsm).");
   Add(&e, "window.depleted_distance_px", &o->window.depleted_distance_px,
       "A pixel this far from every projected window point is depleted, pixels.");
-  Add(&e, "window.max_view_angle_deg", &o->window.max_view_angle_deg,
-      "A covisible keyframe looks within this angle of the newest, degrees.");
-  Add(&e, "window.min_covisible_ratio", &o->window.min_covisible_ratio,
-      "Share of a keyframe's points that must land in depleted areas for it to be covisible.");
-  Add(&e, "window.max_scale_change", &o->window.max_scale_change,
-      "Old points seen at a scale within this ratio count as mapped places.");
   Add(&e, "window.optimize_covisible_poses", &o->window.optimize_covisible_poses,
       "Optimise the covisible keyframes' poses, as the paper does (false: held, their points optimised).");
   Add(&e, "occlusion.enabled", &o->occlusion.enabled,
@@ -236,10 +167,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "The most keyframes outside the window whose observations enter the problem (0: all).");
   Add(&e, "pba.outside_observations_per_point", &o->pba.outside_observations_per_point,
       "> 0: each point's newest this many observations outside the window (0: max_outside_observations).");
-  Add(&e, "pba.drop_outlier_ratio", &o->pba.drop_outlier_ratio,
-      "After the adjustment, an observation with more than this share of outlier pixels is removed.");
-  Add(&e, "pba.skip_outlier_ratio", &o->pba.skip_outlier_ratio,
-      "During it, one with more than this share gets no weight.");
   Add(&e, "pba.max_sigma_ratio", &o->pba.max_sigma_ratio,
       "A keyframe's fitted error scale is bounded by this multiple of the problem's median (0: free).");
   Add(&e, "pba.refit_all_models", &o->pba.refit_all_models,

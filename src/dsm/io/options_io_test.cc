@@ -64,8 +64,8 @@ TEST(OptionsYaml, PrintedOptionsReadBackTheSame) {
     ++keys;
     EXPECT_TRUE(std::regex_match(line, key_line)) << line;
   }
-  EXPECT_EQ(keys, 115);
-  EXPECT_EQ(sections, 13);
+  EXPECT_EQ(keys, 76);
+  EXPECT_EQ(sections, 12);
   SystemOptions back;
   back.pba.levels = 1;  // Overwritten by the text.
   ApplyOptionsText(text, "printed", &back);

@@ -68,7 +68,7 @@ Dataset ReadTumRgbd(const fs::path& root) {
   } else if (auto cam = FreiburgCamera(fs::absolute(root).lexically_normal().filename().string())) {
     d.camera = *cam;
   } else {
-    throw InputError(root.string() + ": no calibration: add a camera.yaml (see README) to this TUM RGB-D folder");
+    throw InputError(root.string() + ": no calibration: add a camera.yaml (as in the folder format) to this TUM RGB-D folder");
   }
   d.images = MakeFolderStore(root);
   const fs::path rgb = root / "rgb.txt";

@@ -11,10 +11,6 @@ namespace dsm {
 
 void ActivationOptions::Validate() const {
   if (target_points < 50) throw InputError("activation.target_points must be at least 50");
-  if (!(max_pixel_interval > 0) || !(min_quality >= 1)) throw InputError("activation thresholds are invalid");
-  if (refine_iterations < 1) throw InputError("activation.refine_iterations must be positive");
-  if (!(min_inlier_ratio > 0 && min_inlier_ratio <= 1)) throw InputError("activation.min_inlier_ratio must be in (0, 1]");
-  if (!(initial_min_distance_px >= 1)) throw InputError("activation.initial_min_distance_px must be at least 1");
 }
 
 DistanceMap::DistanceMap(int width, int height)

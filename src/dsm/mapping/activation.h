@@ -21,11 +21,11 @@ namespace dsm {
 
 struct ActivationOptions {
   int target_points = 1500;        // Active points wanted in the window.
-  float max_pixel_interval = 8.f;  // Of the last epipolar match.
-  float min_quality = 2.f;
-  int refine_iterations = 5;
-  float min_inlier_ratio = 0.7f;   // Of a target observation after the refinement.
-  float initial_min_distance_px = 6.f;
+  static constexpr float max_pixel_interval = 8.f;  // Of the last epipolar match.
+  static constexpr float min_quality = 2.f;
+  static constexpr int refine_iterations = 5;
+  static constexpr float min_inlier_ratio = 0.7f;   // Of a target observation after the refinement.
+  static constexpr float initial_min_distance_px = 6.f;
 
   void Validate() const;
 };

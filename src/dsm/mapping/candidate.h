@@ -35,10 +35,10 @@ enum class TraceStatus {
 };
 
 struct EpipolarOptions {
-  double max_search_fraction = 0.0375;  // Of the image diagonal, when rho_max is unknown.
-  double min_search_px = 1.5;
-  double max_pixel_error = 10.0;        // Beyond this uncertainty a trace is a bad condition.
-  float max_energy = 12.f * 12.f * kPatternSize;  // Of the best match, else an outlier.
+  static constexpr double max_search_fraction = 0.0375;  // Of the image diagonal, when rho_max is unknown.
+  static constexpr double min_search_px = 1.5;
+  static constexpr double max_pixel_error = 10.0;        // Beyond this uncertainty a trace is a bad condition.
+  static constexpr float max_energy = 12.f * 12.f * kPatternSize;  // Of the best match, else an outlier.
   int gauss_newton_iterations = 3;
 };
 

@@ -43,7 +43,7 @@ struct CandidateSelectorOptions {
   float threshold_margin = 7.f;  // Added to the block median gradient, grey levels.
   float noise_factor = 4.f;      // Gradient floor in standard deviations of the noise's gradient.
   float contrast_factor = 3.f;      // Pattern contrast floor in noise sigmas (0: none) ...
-  float contrast_min_noise = 2.5f;  // ... set when the first frame's noise reaches this (System).
+  static constexpr float contrast_min_noise = 2.5f;  // ... set when the first frame's noise reaches this (System).
   int border = 4;                // Pixels left free at the image border.
   // Gradient noise over sigma_estimated / sqrt(2): 1 for unsmoothed frames; the system sets
   // SmoothedGradientNoiseGain (image/noise.h) when it smooths them.

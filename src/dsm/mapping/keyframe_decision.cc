@@ -8,7 +8,6 @@ namespace dsm {
 void KeyframeOptions::Validate() const {
   if (!(weight_parallax >= 0 && weight_visibility >= 0 && weight_brightness >= 0))
     throw InputError("keyframe weights must be non-negative");
-  if (!(residual_growth > 1)) throw InputError("keyframe.residual_growth must be above 1");
 }
 
 bool ShouldCreateKeyframe(const KeyframeScores& s, const KeyframeOptions& o) {

@@ -13,7 +13,7 @@ struct KeyframeOptions {
   double weight_parallax = 4.0;
   double weight_visibility = 3.0;
   double weight_brightness = 4.0;
-  double residual_growth = 2.0;
+  static constexpr double residual_growth = 2.0;
 
   void Validate() const;
 };

@@ -35,7 +35,7 @@ struct OcclusionOptions {
   float depth_ratio = 1.3f;
   int min_occluders = 2;
   int span_px = 96;  // IsBetween's reach on each side.
-  std::string texture_check = "none";  // none | between | all (see above; README: Plain near surfaces).
+  std::string texture_check = "none";  // none | between | all (see above).
   // > 0: the window's candidates whose inverse-depth interval is at most this share of their
   // inverse depth count as occluders too (System::AddCandidatesToOcclusionGrid); 0: map points only.
   float candidate_interval = 0.f;

@@ -10,13 +10,8 @@ namespace dsm {
 
 void WindowOptions::Validate() const {
   if (temporal_keyframes < 2 || temporal_keyframes > 20) throw InputError("window.temporal_keyframes must be within 2..20");
-  if (!(min_visible_ratio >= 0 && min_visible_ratio < 1)) throw InputError("window.min_visible_ratio must be in [0, 1)");
-  if (!(max_affine_change > 0)) throw InputError("window.max_affine_change must be positive");
   if (covisible_keyframes < 0 || covisible_keyframes > 20) throw InputError("window.covisible_keyframes must be within 0..20");
   if (!(depleted_distance_px >= 0)) throw InputError("window.depleted_distance_px must be non-negative");
-  if (!(max_view_angle_deg > 0 && max_view_angle_deg <= 180)) throw InputError("window.max_view_angle_deg must be in (0, 180]");
-  if (!(max_scale_change >= 1)) throw InputError("window.max_scale_change must be at least 1");
-  if (!(min_covisible_ratio >= 0 && min_covisible_ratio < 1)) throw InputError("window.min_covisible_ratio must be in [0, 1)");
 }
 
 double VisibleRatio(const Map& map, int keyframe, int target) {

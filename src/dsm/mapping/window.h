@@ -16,16 +16,16 @@ namespace dsm {
 
 struct WindowOptions {
   int temporal_keyframes = 4;  // N_t, including the newest.
-  double min_visible_ratio = 0.05;
-  double max_affine_change = 0.7;
+  static constexpr double min_visible_ratio = 0.05;
+  static constexpr double max_affine_change = 0.7;
   // Covisible part (covisibility.h). DSM-SW (MapMode::kSlidingWindow) has none and a temporal
   // part of N_t + N_c keyframes instead.
-  int covisible_keyframes = 5;         // N_c (3 in the paper: see the README's ablation).
+  int covisible_keyframes = 5;         // N_c (3 in the paper, which re-uses too little of the map here).
   bool optimize_covisible_poses = false;  // Paper: true. Held, their points are still optimised.
   float depleted_distance_px = 2.f;    // A pixel this far from every projected point is depleted.
-  double max_view_angle_deg = 60.0;
-  double min_covisible_ratio = 0.05;   // Of a keyframe's points that must land in depleted areas.
-  float max_scale_change = 1.3f;        // Old points seen at a similar scale count as mapped places.
+  static constexpr double max_view_angle_deg = 60.0;
+  static constexpr double min_covisible_ratio = 0.05;   // Of a keyframe's points that must land in depleted areas.
+  static constexpr float max_scale_change = 1.3f;        // Old points seen at a similar scale count as mapped places.
 
   void Validate() const;
 };

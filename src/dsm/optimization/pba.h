@@ -50,8 +50,8 @@ struct PbaOptions {
   // window (0: all). Bounds the outside observations by a multiple of the active points.
   int outside_observations_per_point = 0;
   RobustOptions robust;
-  double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
-  double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
+  static constexpr double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
+  static constexpr double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
   // With texture_loss.max_variance_ratio > 0 (off by default), an observation whose target shows
   // no trace of the host's texture (texture_loss.h) at the finest level takes no part there:
   // left out of the error models' fit, removed after the PBA, and with texture_loss.in_energy
@@ -60,11 +60,11 @@ struct PbaOptions {
   // A keyframe's fitted scale sigma is at most this many times the median over the problem's
   // keyframes (0: unbounded; see RunPba).
   double max_sigma_ratio = 3.0;
-  // Refit the error model of every keyframe in the problem (true), or only the newest keyframe's
-  // (false, as the original DSM), to the residuals of points hosted by free keyframes: an older
-  // keyframe keeps the model fitted when it was the newest, and re-observations of held or fixed
-  // keyframes' points, which may disagree at a lap's end, do not widen it. Measured in the README
-  // (Error models); not better overall, so off.
+  // Refit the error model of every keyframe in the problem to its current residuals (true), or
+  // only the newest keyframe's (false, as the original DSM), to the residuals of points hosted by
+  // free keyframes: an older keyframe then keeps the model fitted when it was the newest, and
+  // re-observations of held or fixed keyframes' points, which may disagree at a lap's end, do not
+  // widen it.
   bool refit_all_models = true;
   // Convergence: every component of the last step below these (translation scaled by the mean
   // inverse depth of the points).

@@ -25,8 +25,8 @@
 
 namespace dsm {
 
-// The share measured on the room and the synthetic scenes (README: Texture loss). Off by default:
-// DSM-SW on the room gets worse with it, and DSM's median over five room starts no better.
+// The share of the host's pattern variance below which a target has lost the texture. The test
+// is off by default; SystemOptions::texture_loss_min_noise turns it on for noisy images.
 constexpr double kTextureLossRatio = 0.25;
 
 struct TextureLossOptions {
@@ -36,7 +36,7 @@ struct TextureLossOptions {
   // Where the bundle adjustment uses the test (pba.h): true, an observation whose texture is lost
   // takes no part in the energy either; false, only in the error models' fit and the removal
   // after the adjustment, so that a pattern that misses its texture while the point's depth
-  // converges is still pulled into place (README: Texture loss).
+  // converges is still pulled into place.
   bool in_energy = true;
 
   void Validate() const;  // Throws InputError naming the option.

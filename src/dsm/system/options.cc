@@ -31,14 +31,9 @@ bool SystemOptions::YoungMapBaDue(int keyframes) const {
 void SystemOptions::Validate() const {
   if (pyramid_levels < 1 || pyramid_levels > 6) throw InputError("pyramid_levels must be within 1..6");
   if (max_initialization_frames < 5) throw InputError("max_initialization_frames must be at least 5");
-  if (keep_pyramid_keyframes < 1) throw InputError("keep_pyramid_keyframes must be at least 1");
   if (!(smoothing_sigma <= 3.0)) throw InputError("system.smoothing_sigma must be at most 3 (negative: automatic)");
-  if (!(smoothing_noise_threshold >= 0.0)) throw InputError("system.smoothing_noise_threshold must be non-negative");
-  if (!(smoothing_auto_sigma >= 0.0 && smoothing_auto_sigma <= 3.0))
-    throw InputError("system.smoothing_auto_sigma must be within 0..3");
   if (interpolation != "auto" && interpolation != "bilinear" && interpolation != "bspline")
     throw InputError("system.interpolation must be auto, bilinear or bspline, not '" + interpolation + "'");
-  if (!(bspline_min_noise >= 0.0)) throw InputError("system.bspline_min_noise must be non-negative");
   if (!(texture_loss_min_noise >= 0.0)) throw InputError("system.texture_loss_min_noise must be non-negative");
   if (young_map_ba_first < 2) throw InputError("system.young_map_ba_first must be at least 2");
   if (young_map_ba_last < 0) throw InputError("system.young_map_ba_last must be non-negative (0: none)");

@@ -56,24 +56,18 @@ struct SystemOptions {
   // a live camera does not wait).
   bool wait_for_mapping = true;
   // Threaded: the young map's and the loop adjustments stop for a keyframe waiting to be mapped
-  // and are taken up after it (System::Adjust). For a live camera (realtime pace: EuRoC 0 frames
-  // dropped in every run, against bursts of 16-18 in some); not when frames wait for the mapping
-  // side anyway (free pace: each part builds its problem anew, and the adjustments took 3.3-3.9 s
-  // per EuRoC run instead of 1.2).
+  // and are taken up after it (System::Adjust), so that a live camera's keyframes do not wait
+  // through a second-long adjustment. Not when frames wait for the mapping side anyway (free
+  // pace), where taking an adjustment up again costs building its problem anew.
   bool yield_adjustments = false;
   // Threaded: the mapping side computes each keyframe's ORB features (for relocalisation) once it
-  // is mapped, instead of the first relocalisation that ranks it. For a live camera, whose mapping
-  // side has time between keyframes: a relocalisation after a long run detected features in 8-13
-  // keyframes first (45-75 ms of its 80-170 on `orbit`), and each frame it takes past the next
-  // frame's arrival drops one.
+  // is mapped, instead of the first relocalisation that ranks it: a live camera's relocalisation
+  // then has no features to detect first, and its mapping side has time between keyframes.
   bool keyframe_features = false;
   // Threaded: a frame tracked while the mapping side still maps a keyframe hands it no candidate
   // tracing. When frames come as fast as tracking takes them (free pace) the mapping side is the
-  // slower of the two, and these frames, between a keyframe and the next, add little that the
-  // frames after do not: EuRoC 2.6 -> 3.0x real time, 4.27 -> 4.19 mm, synthetic scenes the same
-  // or better (README, Speed and memory). Not for a live camera (realtime pace), whose frames come
-  // 50 ms apart: there it made `orbit` and `exposure` worse (medians of five 0.45 -> 0.60 and
-  // 0.82 -> 0.97 mm, frames dropped in 7 of 10 runs against 2).
+  // slower of the two, and these frames add little that the frames after them do not. Not for a
+  // live camera (realtime pace), whose frames come far apart.
   bool skip_traces_while_mapping = false;
   // Every tracking reference carries a MapSnapshot (system.h) for a live viewer: the mapping side
   // spends about a microsecond per live point on it per keyframe.
@@ -82,37 +76,36 @@ struct SystemOptions {
   int max_initialization_frames = 40;  // Frames on one initialiser reference before it restarts.
   // A keyframe's pyramid is released when no mapping step used it in the last this many keyframes
   // (the compact image stays; Map::LoadPyramids rebuilds it).
-  int keep_pyramid_keyframes = 2;
+  static constexpr int keep_pyramid_keyframes = 2;
   // Gaussian smoothing of every frame before anything else (image/noise.h), sigma in pixels; 0:
-  // none (default). Negative: automatic, decided on the first frame: smoothing_auto_sigma when
+  // none (the default). Negative: automatic, decided on the first frame: smoothing_auto_sigma when
   // its noise level reaches smoothing_noise_threshold grey levels (render noise), none below
-  // (camera images). Not the default yet: see the README (Image noise).
+  // (camera images).
   double smoothing_sigma = 0.0;
-  double smoothing_noise_threshold = 2.5;
-  double smoothing_auto_sigma = 0.7;
+  static constexpr double smoothing_noise_threshold = 2.5;
+  static constexpr double smoothing_auto_sigma = 0.7;
   // How residuals sample images (photometric/residual.h): "bilinear", "bspline", or "auto" (the
   // default): the cubic B-spline when the first frame's noise level reaches bspline_min_noise grey
-  // levels (render noise; the room: 4.7), bilinear below (camera images: EuRoC 0.47, where the
-  // ripple is 100x weaker and the B-spline's blur and cost buy nothing). README, Interpolation.
+  // levels, bilinear below. Bilinear interpolation of independent pixel noise leaves a one-pixel
+  // ripple in the energy that pulls every depth and pose; on camera images the ripple is weak and
+  // the B-spline's blur and cost buy nothing.
   std::string interpolation = "auto";
-  double bspline_min_noise = 2.5;
+  static constexpr double bspline_min_noise = 2.5;
   // The bundle adjustment's texture-loss test (texture_loss.h) in --mode dsm, when
   // pba.texture_loss_ratio is 0 (not set) and the first frame's noise level reaches this many grey
-  // levels (render noise, as bspline_min_noise; 0: never): at kTextureLossRatio, judging the
-  // error models' fit and the removal after the adjustment only (texture_loss.in_energy false).
-  // On noisy images a point seen through a plain near surface widens its target's error model
-  // the most (README: Texture loss). Not in --mode sw, which has no persistent map to re-observe
-  // a removed observation's point from, nor on camera images (EuRoC 0.47 grey levels).
+  // levels (0: never): at kTextureLossRatio, judging the error models' fit and the removal after
+  // the adjustment only (texture_loss.in_energy false). On noisy images a point seen through a
+  // plain near surface widens its target's error model the most. Not in --mode sw, which has no
+  // persistent map to re-observe a removed observation's point from.
   double texture_loss_min_noise = 2.5;
   // Bundle adjustments of the whole young map (--mode dsm): every keyframe but the first free,
   // when the map reaches young_map_ba_first keyframes, then twice, four times as many, ..., up to
   // young_map_ba_last (0: none), each after the keyframe is published (System::FinishKeyframe; it
   // is then published again). A keyframe that leaves the window is held where the window left
-  // it, and every later keyframe builds on it: the first ones stand on short baselines and the
-  // two-view start, and on the path-traced room the scale drifted 1-3% over the first 100 frames
-  // and stayed (README, The young map). Not before 10 keyframes: a map of 5 may still be little
-  // more than a rotation (`pan`), and freeing all its poses bends it. The bound keeps the cost
-  // (about a second at 40 keyframes) independent of the map's size.
+  // it, and every later keyframe builds on it, while the first ones stand on short baselines and
+  // the two-view start. Not before 10 keyframes: a map of 5 may still be little more than a
+  // rotation, and freeing all its poses bends it. The bound keeps the cost (about a second at 40
+  // keyframes) independent of the map's size.
   int young_map_ba_first = 10;
   int young_map_ba_last = 40;
   int young_map_ba_step = 0;  // > 0: every this many keyframes from young_map_ba_first instead of doubling.
@@ -122,25 +115,22 @@ struct SystemOptions {
   // covisible ones and all before held, with loop_ba_max_iterations LM iterations per level (0:
   // as pba.max_iterations); at most once every loop_ba_min_gap keyframes, after the keyframe is
   // published (System::FinishKeyframe; it is then published again). The window alone moves only
-  // its own keyframes onto the old map, and what drifted over the loop stays (a final --global-ba
-  // shows the map holds what corrects it). Off (0) by default: each costs 0.3-8 s (README, The
-  // loop).
+  // its own keyframes onto the old map, and what drifted over the loop stays. Off (0) by default:
+  // each costs from a fraction of a second to several seconds.
   int loop_ba_min_gap = 0;
   // The same adjustment once after a relocalisation, at the first keyframe whose covisible
-  // keyframes reach this many back (0: never). Tracking lost and regained is the map's weakest
-  // link: the part after it joins the part before through one relocalised pose (`loop` with
-  // defects: the scale after the first loss runs 0.2% high, and the lap's two parts disagree when
-  // the camera comes back). From then on the map is also adjusted as loop_ba_min_gap would, every
-  // this many keyframes (when loop_ba_min_gap is 0): the loops that close later are what make the
-  // parts before and after the loss agree. A recording without losses never pays for it.
+  // keyframes reach this many back (0: never). The part mapped after a loss joins the part before
+  // through one relocalised pose, and the two disagree where the camera comes back. From then on
+  // the map is also adjusted as loop_ba_min_gap would, every this many keyframes (when
+  // loop_ba_min_gap is 0). A recording without losses never pays for it.
   int loop_ba_after_relocalisation = 20;
   // The seam a relocalisation leaves (--mode dsm): the part mapped after it joins the part before
   // through the relocalised pose and the few old points it sees, and the window, which frees the
   // keyframes before the loss as well, bends those towards it. At every seam_ba_step-th of the
   // first seam_ba_step * seam_ba_count keyframes after the relocalisation, the seam_ba_before
   // keyframes before it and all after it are adjusted together, the older keyframes whose points
-  // these observe held; not in a map of fewer than 2 * seam_ba_before keyframes at the
-  // loss, which has too little before them to hold it (README, Lost frames and relocalisation).
+  // these observe held; not in a map of fewer than 2 * seam_ba_before keyframes at the loss, which
+  // has too little before them to hold it.
   int seam_ba_count = 4;  // 0: never.
   int seam_ba_step = 2;
   int seam_ba_before = 8;
@@ -148,8 +138,8 @@ struct SystemOptions {
   // alone, which a small overlap leaves a few percent of the baseline off. When the camera later
   // sees the older map again and at least rejoin_min_outliers of a new keyframe's observations of
   // its points are outliers (three times its inlier ones), the keyframe is aligned with the old
-  // keyframe they come from, and the whole part is moved by the correction (README, Lost frames
-  // and relocalisation). 0: never.
+  // keyframe they come from, and the whole part is moved by the correction (system_rejoin.cc).
+  // 0: never.
   int rejoin_min_outliers = 50;
   int loop_ba_max_keyframes = 120;
   int loop_ba_max_iterations = 0;  // Per level; 0: as pba.max_iterations.

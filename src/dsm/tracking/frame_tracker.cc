@@ -22,8 +22,6 @@ void TrackerOptions::Validate() const {
   for (int it : iterations)
     if (it < 1) throw InputError("tracker.iterations must be positive");
   if (!(min_usage > 0 && min_usage < 1)) throw InputError("tracker.min_usage must be in (0, 1)");
-  if (!(convergence_px > 0 && convergence_px < 1)) throw InputError("tracker.convergence_px must be in (0, 1)");
-  if (!(max_alpha_step > 0)) throw InputError("tracker.max_alpha_step must be positive");
   if (max_alpha_frames < 1) throw InputError("tracker.max_alpha_frames must be at least 1");
   robust.Validate();
 }

@@ -50,7 +50,7 @@ struct TrackerOptions {
   // A level is done once a step would move the image by less than this (pixels of that level,
   // bound at the image centre: |w| f + |v| f mean_idepth), accepted or not: smaller steps are
   // below what the sampled energy resolves, and LM would only raise its damping on them.
-  double convergence_px = 0.01;
+  static constexpr double convergence_px = 0.01;
   // The reference: the window's points with a verified (inlier) observation in the keyframe, as
   // the bundle adjustment left them; false: every point that projects into it. A point hidden in
   // the keyframe would take the intensity of what hides it at its own depth.
@@ -58,7 +58,7 @@ struct TrackerOptions {
   // Largest change of log contrast alpha from the guess per frame that Track believes (see
   // Track). Exposure changes between frames move it by < 0.1 once the exposure times are
   // accounted for (shared EuRoC frames: 0.08 after the start, the path-traced room 0.012).
-  double max_alpha_step = 0.4;
+  static constexpr double max_alpha_step = 0.4;
   // Frames of that change at most, however many frames apart the guess is: a few dropped or
   // lost frames are no time for the contrast to halve, but they were enough for the flat
   // prediction's alpha (-1 ... -2.8) to pass at 0.4 per frame.

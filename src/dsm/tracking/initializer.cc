@@ -15,18 +15,8 @@
 namespace dsm {
 
 void InitializerOptions::Validate() const {
-  if (max_corners < 50) throw InputError("initializer.max_corners must be at least 50");
   if (!(min_parallax_deg > 0)) throw InputError("initializer.min_parallax_deg must be positive");
-  if (!(max_homography_ratio > 0 && max_homography_ratio <= 1)) throw InputError("initializer.max_homography_ratio must be in (0, 1]");
-  if (min_inliers < 8) throw InputError("initializer.min_inliers must be at least 8");
-  if (!(ransac_threshold_px > 0)) throw InputError("initializer.ransac_threshold_px must be positive");
-  if (!(refine_loss_px > 0)) throw InputError("initializer.refine_loss_px must be positive");
-  if (!(planar_min_homography_ratio > 0 && planar_min_homography_ratio <= 1))
-    throw InputError("initializer.planar_min_homography_ratio must be in (0, 1]");
-  if (planar_frame_gap < 1) throw InputError("initializer.planar_frame_gap must be at least 1");
   if (!(min_track_share >= 0 && min_track_share < 1)) throw InputError("initializer.min_track_share must be in [0, 1)");
-  if (!(planar_normal_tolerance_deg > 0 && planar_normal_tolerance_deg < 30))
-    throw InputError("initializer.planar_normal_tolerance_deg must be in (0, 30)");
 }
 
 namespace {

@@ -40,21 +40,21 @@
 namespace dsm {
 
 struct InitializerOptions {
-  int max_corners = 800;
+  static constexpr int max_corners = 800;
   double min_parallax_deg = 1.5;
-  double max_homography_ratio = 0.9;  // Refuse when H inliers / E inliers exceed this.
-  int min_inliers = 60;
-  double ransac_threshold_px = 1.0;
+  static constexpr double max_homography_ratio = 0.9;  // Refuse when H inliers / E inliers exceed this.
+  static constexpr int min_inliers = 60;
+  static constexpr double ransac_threshold_px = 1.0;
   // Both off by default: they make the starting motion several times more accurate (on the
   // path-traced room, direction of motion 0.9-6.0 deg off instead of 0.5-11.5; on every synthetic
   // scene), but the end-to-end accuracy over five renderings of the synthetic scenes was not better.
   bool track_from_reference = false;  // Re-track each corner from the reference image every frame.
   bool refine_motion = false;         // Refine RANSAC's motion on all inliers (two_view.h).
-  double refine_loss_px = 1.0;        // Cauchy scale of that refinement.
+  static constexpr double refine_loss_px = 1.0;        // Cauchy scale of that refinement.
   bool planar_start = true;           // Start from the homography when one plane fills the view.
-  double planar_min_homography_ratio = 0.98;
-  int planar_frame_gap = 4;
-  double planar_normal_tolerance_deg = 3.0;
+  static constexpr double planar_min_homography_ratio = 0.98;
+  static constexpr int planar_frame_gap = 4;
+  static constexpr double planar_normal_tolerance_deg = 3.0;
   // The caller starts over on the current frame once fewer than this share of the reference's
   // corners are still tracked (System::Initialize): a camera that moves fast, or a live one whose
   // frames are dropped while the initialiser waits for parallax, loses most corners within a few

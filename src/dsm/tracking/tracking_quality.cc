@@ -29,19 +29,12 @@ void QualityOptions::Validate() const {
   if (!(min_texture_ratio >= 0.0 && min_texture_ratio < 1.0)) throw InputError("quality.min_texture_ratio must be in [0, 1)");
   if (!(min_relocalisation_texture_ratio >= min_texture_ratio && min_relocalisation_texture_ratio <= 1.0))
     throw InputError("quality.min_relocalisation_texture_ratio must be in [quality.min_texture_ratio, 1]");
-  if (!(min_keyframe_texture_step >= 0.0 && min_keyframe_texture_step <= 1.0))
-    throw InputError("quality.min_keyframe_texture_step must be in [0, 1]");
   if (!(max_residual_ratio > 1.0)) throw InputError("quality.max_residual_ratio must be above 1");
   if (!(max_relocalisation_residual_ratio >= max_residual_ratio))
-    throw InputError("quality.max_relocalisation_residual_ratio must be at least quality.max_residual_ratio");
-  if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio < 1.0)) throw InputError("quality.min_inlier_ratio must be in [0, 1)");
+    throw InputError("quality.max_residual_ratio must be at most the relocalisation's bound (6)");
   if (!(max_rotation_deg > 0.0 && max_rotation_deg <= 180.0)) throw InputError("quality.max_rotation_deg must be in (0, 180]");
-  if (!(max_parallax > 0.0)) throw InputError("quality.max_parallax must be positive");
   if (history < 1) throw InputError("quality.history must be at least 1");
   if (min_history < 1 || min_history > history) throw InputError("quality.min_history must be in [1, quality.history]");
-  if (!(max_speed_ratio > 0.0)) throw InputError("quality.max_speed_ratio must be positive");
-  if (!(min_speed >= 0.0)) throw InputError("quality.min_speed must be non-negative");
-  if (!(min_turn_deg >= 0.0)) throw InputError("quality.min_turn_deg must be non-negative");
 }
 
 TrackingQuality::TrackingQuality(const QualityOptions& options) : options_(options) { options_.Validate(); }

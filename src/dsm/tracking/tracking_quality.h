@@ -67,15 +67,15 @@ namespace dsm {
 struct QualityOptions {
   double min_texture_ratio = 0.35;
   double min_relocalisation_texture_ratio = 0.7;
-  double min_keyframe_texture_step = 0.8;
+  static constexpr double min_keyframe_texture_step = 0.8;
   double max_residual_ratio = 4.0;
-  double max_relocalisation_residual_ratio = 6.0;
-  double min_inlier_ratio = 0.5;
+  static constexpr double max_relocalisation_residual_ratio = 6.0;
+  static constexpr double min_inlier_ratio = 0.5;
   double max_rotation_deg = 25.0;
-  double max_parallax = 1.5;
-  double max_speed_ratio = 2.0;
-  double min_speed = 0.02;
-  double min_turn_deg = 2.5;
+  static constexpr double max_parallax = 1.5;
+  static constexpr double max_speed_ratio = 2.0;
+  static constexpr double min_speed = 0.02;
+  static constexpr double min_turn_deg = 2.5;
   int history = 20;
   int min_history = 3;
 
