@@ -16,10 +16,9 @@
 //
 // Pattern contrast: the centre's gradient says little about the 8-pixel pattern that the point's
 // residuals compare (residual.h), and on a noisy image a strong gradient at one pixel is often
-// the noise's. On path-traced frames such faint points bias the map, not merely blur it: the
-// room's whole map bundle-adjusted from the true poses ended 1.3 mm from them, 0.9 mm without the
-// third of its points whose pattern contrast c (the standard deviation of its 8 intensities) was
-// below 12 grey levels (2.5 sigma), and worse (not better) with a random third removed. So, when
+// the noise's. On path-traced frames such faint points bias the map, not merely blur it: the map
+// adjusted from the true poses ends nearer them without the points of low pattern contrast c (the
+// standard deviation of its 8 intensities), and not with a random share of points removed. So, when
 // the system finds its first frame noisy (contrast_min_noise), no pixel is taken with
 //   c < contrast_factor * sigma,
 // sigma the image's noise level (the median of its blocks'; pure noise gives c = 0.94 sigma, and

@@ -15,11 +15,10 @@
 // problem's keyframes: image noise and the change of appearance between views are shared by the
 // keyframes of one window (one camera, one part of the scene), so a keyframe whose residuals spread
 // several times wider is one whose residuals are dominated by misalignment — a frame tracked wrong
-// as a near object swept through the view. Fitted freely, its model widens to them (sigma 3 -> 22,
-// inlier threshold 140 grey levels on a synthetic orbit) and its pixel masks accept the
-// observations of points hidden behind the near object; its points then become the tracking
-// reference and the scale breaks (82 mm instead of 2 mm). Three times the median leaves every
-// other synthetic scene and the shared sequences within their spread (twice: `loop` worse).
+// as a near object swept through the view. Fitted freely, its model widens to them and its pixel
+// masks accept the observations of points hidden behind the near object; its points then become
+// the tracking reference and the scale breaks. Three times the median leaves the models of
+// well-aligned keyframes alone.
 // Linearisation accumulates Hessian blocks per host–target keyframe pair in parallel chunks that
 // are summed in a fixed order, so results do not depend on the thread schedule.
 #pragma once

@@ -15,10 +15,9 @@
 // less than a share of it:  V_t < max_variance_ratio V_h.
 // A surface seen from farther away than its host saw it shows the same texture compressed into
 // fewer pixels (less variance in 8 samples, by the sampling's blur); seen from nearer, the 8
-// samples cover a smaller part of it (less variance where the texture is smooth: on `forward`,
-// walking down the corridor, its test at keyframe creation went 0.88 -> 1.47 mm on seed 3 without
-// this bound, 0.97 with it). The test is only made when the point's depth in the target is within
-// a factor max_depth_ratio of its depth in the host (the pattern centre's, 1 / rho).
+// samples cover a smaller part of it (less variance where the texture is smooth, as when walking
+// down a corridor). The test is only made when the point's depth in the target is within a
+// factor max_depth_ratio of its depth in the host (the pattern centre's, 1 / rho).
 #pragma once
 
 #include "dsm/photometric/residual.h"

@@ -3,15 +3,14 @@
 //
 // A frame tracked while a keyframe is still being mapped is aligned with the keyframe before it:
 // further from its reference than in the sequential run, and its candidates' traces and the next
-// keyframe decision with it (on the `exposure` scene that doubled the keyframe ATE). A live
-// camera's frame may wait for the pending keyframe, within these limits:
+// keyframe decision with it. A live camera's frame may wait for the pending keyframe, within these
+// limits:
 //  - It holds the next frame's first pose back no more than its latency budget allows: the
 //    frame's own first pose was told before the wait, the next one's comes after this frame's
 //    work after the wait point (b, below) and the next frame's own work up to its first pose (p:
 //    the longest time from taking a frame to its first pose over the last kRecentFrames), so the
-//    wait ends by r_{i+1} + kNextFirstPoseMs - b - p. Waits up to the no-drop limit alone gave a
-//    first-pose latency p90 of 48-59 ms on EuRoC; ending every wait at r_{i+1} gave 21-31 ms but
-//    `loop` 1.06 mm (median of three realtime runs) against 0.66 (sequential 0.88).
+//    wait ends by r_{i+1} + kNextFirstPoseMs - b - p. (Waits up to the no-drop limit alone hold
+//    first poses back; ending every wait at r_{i+1} costs accuracy.)
 //  - No frame is lost by it. The camera driver keeps the newest frame, so frame i + 1 is lost only
 //    if frame i is still busy when frame i + 2 arrives: frame i (released at r_i) waits at most
 //    until r_{i+2} - b, with b the longest time the last kRecentFrames frames spent after their
@@ -24,11 +23,9 @@
 //    target (infinity, the default): the first limit alone. A target of 0: no wait at all.
 // A frame's first pose does not wait: it is told before the wait (System::SetPoseListener).
 // Near the end, with r_{i+2} unknown, only a finite target allows a wait.
-// Measured (loop, exposure, forward, rotation, shake, pan, orbit: seed 1; EuRoC; five runs):
-// without a target the realtime keyframes are the sequential ones wherever the mapping keeps up;
-// first-pose latency p90 8-19 ms (EuRoC 27-36), kept pose 8-41 ms (EuRoC 57-74). With a 45 ms
-// target, waits that end at the target lost tracking on `orbit` as the near occluder passes and
-// the map broke (91-1556 mm in 8 of 11 runs with a 40-45 ms target).
+// Without a target the realtime keyframes are the sequential ones wherever the mapping keeps up.
+// A target makes waits end part-way, which can lose tracking where a near occluder passes: it is
+// off by default.
 #pragma once
 
 #include <chrono>

@@ -171,11 +171,9 @@ bool System::AdjustLoop(int newest) {
   const int after_loss = options_.loop_ba_after_relocalisation;
   // Once tracking was lost and regained, the map holds parts joined by a relocalised pose alone,
   // and only the loops that close later make them agree: the window holds its old keyframes.
-  // After a relocalisation with few points in view (`loop` seed 2 after 15 black frames, 5-12%
-  // of the keyframe's points) the part after it ran 0.7% high in scale: with the one adjustment
-  // after the relocalisation (`relocalised`, which came as the lap closed) keyframe ATE 5.24 mm
-  // against 1.54 clean, with the periodic ones from then on 0.52 (a final global adjustment
-  // 0.35). So such a map is adjusted periodically, every loop_ba_after_relocalisation keyframes.
+  // After a relocalisation with few points in view the part after it can run off in scale, and a
+  // single adjustment as the lap closes does not bring it back. So such a map is adjusted
+  // periodically, every loop_ba_after_relocalisation keyframes.
   const int gap = options_.loop_ba_min_gap > 0 ? options_.loop_ba_min_gap : relocalisations_mapped_ > 0 ? after_loss : 0;
   const bool periodic = gap > 0 && newest - oldest >= gap && (last_loop_ba_ < 0 || newest - last_loop_ba_ >= gap);
   const bool relocalised = loop_ba_pending_ && after_loss > 0 && newest - oldest >= after_loss;
@@ -220,8 +218,7 @@ bool System::AdjustSeam(int newest) {
   // whose points they observe, so that those points tie them to the old map (the keyframes that
   // observe the free keyframes' points enter fixed, as in every adjustment).
   // A map of fewer than twice that many keyframes at the loss has too little before them to hold:
-  // freeing it nearly whole bent it (`pan` seed 2 with the defects, 11 keyframes, relocalised at
-  // keyframes 6 and 9: keyframe ATE 0.50 -> 0.78 mm); the young map's adjustments cover it.
+  // freeing it nearly whole bends it; the young map's adjustments cover it.
   const int first = seam_first_ - options_.seam_ba_before;
   if (first < options_.seam_ba_before) return false;
   std::vector<int> held;
@@ -297,8 +294,8 @@ bool System::HiddenIn(const Point& p, int kf, const Eigen::Vector2f& px, float r
   if (grid.IsOccluded(px, rho)) return true;
   const std::string& check = options_.occlusion.texture_check;
   if (check == "none" || (check == "between" && !grid.IsBetween(px, rho))) return false;
-  // The bundle adjustment's texture-loss test (its host-variance floor and depth bound), at the
-  // measured share whether or not the adjustment uses it.
+  // The bundle adjustment's texture-loss test (its host-variance floor and depth bound), at
+  // kTextureLossRatio whether or not the adjustment uses it.
   TextureLossOptions texture = options_.pba.texture_loss;
   texture.max_variance_ratio = kTextureLossRatio;
   return TextureGone(map_, camera_, p, kf, texture);

@@ -111,8 +111,7 @@ bool System::RejoinAfterRelocalisation(int newest) {
   // The old points must agree with the moved part: most of them consistent in the keyframe
   // (observation_check.h), where few were. And the correction must move them beyond the
   // adjustments' reach: a shift of a few pixels the loops that follow close by themselves, bending
-  // the part where a rigid move cannot (`loop` seeds 1, 2, 4 with the defects, 0.7-4.5 px: 0.35,
-  // 0.44, 0.33 mm moved -> 0.37, 0.47, 0.35).
+  // the part where a rigid move cannot.
   if (2 * after < static_cast<int>(observed.size()) || after < 2 * before || shift_px < kMinShiftPx) {
     map_.keyframe(newest).cam_from_world = pose;
     return false;

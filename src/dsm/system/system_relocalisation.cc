@@ -210,8 +210,8 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     // Brightness: the last trusted frame's. A suspended map's (System::Suspend) is from before
     // the camera left it, and the light may have changed since: the best guess with the images'
     // own statistics (signature.h) is aligned too. Not otherwise: between two views of different
-    // content the statistics are off by up to ~1.5x themselves, and the extra alignment won with
-    // a wrong pose (`loop` at 320x240 with defects, after the hand: keyframe ATE 0.42 -> 536 mm).
+    // content the statistics are off by up to ~1.5x themselves, and the extra alignment can win
+    // with a wrong pose.
     double alpha, beta;
     internal::RelativeBrightness(last_brightness, exposure, kf.affine, kf.exposure, &alpha, &beta);
     std::vector<std::pair<double, int>> ranked;

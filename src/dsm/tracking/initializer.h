@@ -58,10 +58,8 @@ struct InitializerOptions {
   // The caller starts over on the current frame once fewer than this share of the reference's
   // corners are still tracked (System::Initialize): a camera that moves fast, or a live one whose
   // frames are dropped while the initialiser waits for parallax, loses most corners within a few
-  // frames, and two views joined by the few that remain made a map of 60-112 points whose scale
-  // collapsed within three keyframes (`loop` with three of every four frames cut: keyframe ATE
-  // 1321 mm; the same from frame 2 on, 0.26). The slowest share on the scenes and the shared
-  // recordings at their start: 0.55 (`pan`).
+  // frames, and two views joined by the few that remain make a map of a hundred points whose scale
+  // collapses within a few keyframes. A normal start keeps well above this share.
   double min_track_share = 0.3;
 
   void Validate() const;

@@ -13,11 +13,9 @@
 //            The level there is the lower of the running one and the newest keyframe's (the
 //            last view of the place, made before a hand came in: a frame whose texture fell
 //            makes no keyframe): the running median lags a view turning to a plainer part of
-//            the scene. On `loop` (seed 2) it stood at 1.50x the texture of the last frame
-//            before a blackout, the newest keyframe at 1.24x; the first frame tried against the
-//            map came 9 frames after the blackout instead of 14.
-//            Measured texture / level while tracking: shared EuRoC frames >= 0.83, room >= 0.90;
-//            a hand over 27% of the view 0.81, over 55% 0.53.
+//            the scene, and frames after a blackout are then tried against the map sooner.
+//            (Tracked camera frames stay above 0.8 of the level; a hand over half the view
+//            leaves about half.)
 //   keyframe: a tracked frame whose texture fell below min_keyframe_texture_step x the frame
 //            before's makes no keyframe (a hand sliding over the lens, a blurred frame); the next
 //            frame decides again, so a texture that falls for good stops none.
@@ -31,28 +29,21 @@
 //   relocalisation against a keyframe other than the one the camera was lost from: median
 //             |residual| > max_relocalisation_residual_ratio x the level instead. The level is
 //             measured against the newest keyframe, a few frames away; an older keyframe sees the
-//             place from further off and in other light (EuRoC after 15 frames of noise: correct
-//             poses, consistent over three frames, at 3.7-5.7x the level against keyframes 75
-//             frames back, wrong minima at 15-38x; a better map lowers the level and the
-//             correct ones failed 4x)
+//             place from further off and in other light (correct poses against keyframes far
+//             back show several times the level, wrong minima an order of magnitude more)
 //   relocalisation, besides: the camera moved from the last trusted pose by more than
 //             (frames) x (max_speed_ratio x its speed before + min_speed x mean depth), or its
 //             turn differs from the constant-velocity prediction by more than (frames) x
-//             min_turn_deg (a repetitive scene offers a second place that looks the same; on a
-//             320x240 `loop` with a hand over the lens for 16 frames a pose turned 75 deg from the
-//             last trusted one passed the residual test, 1.9x the usual level where correct
-//             relocalisations show 1.1-2x; the camera had turned 15 deg)
+//             min_turn_deg (a repetitive scene offers a second place that looks the same, and
+//             its residual can pass the test)
 // The levels judge once they hold `min_history` values. A new map's are seeded at once
 // (System::StartMap): the texture with that of each frame the initialiser used, the residual with
 // the frame before the second keyframe tracked against the new map, so that a bad frame right
-// after the start is judged as any other (before, only the absolute rules applied for the first
-// `history` trusted frames: 15 black frames from the fourth frame of EuRoC became five keyframes
-// and the map was lost, as were noise frames and a hand right after the room's start).
+// after the start is judged as any other.
 // The median of the level-0 gradient-weighted residuals (TrackResult::residual_p50), not their
-// RMS: occlusions and moving things add outliers to a good alignment (the RMS of clean frames
-// reaches 3.2x its running level, the median 2.6x, measured on the shared EuRoC and room frames
-// and on `loop` and `forward`), while a frame of noise or an alignment in a wrong minimum moves
-// the median itself (12-20x).
+// RMS: occlusions and moving things add outliers to a good alignment and raise its RMS, while a
+// frame of noise or an alignment in a wrong minimum moves the median itself, by an order of
+// magnitude.
 #pragma once
 
 #include <deque>
