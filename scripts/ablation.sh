@@ -4,8 +4,10 @@
 # (Sim(3)), keyframes, map points, points created and PBA time per keyframe.
 #
 # Usage: ./scripts/ablation.sh [--jobs N] [--sequences "loop forward euroc"] [--configs "dsm sw ..."]
-#                              [--seeds "1 2 3"] [--work DIR] [--section NAME]
+#                              [--seeds "1 2 3"] [--work DIR] [--section NAME] [--reuse]
 #        ./scripts/ablation.sh --print-header   the table's header alone (no build, no run)
+#   reuse:   a run whose stats.json is in the work folder from before is not run again (to resume
+#            an interrupted ablation, or to add sequences or configs to one; same binary only)
 #   section: the section of docs/results.md the table is written to (scripts/results.sh; default
 #            ablation); `accuracy`, the README's results table, is
 #            --configs "dsm sw" --seeds "1 2 3 4 5" --section accuracy
@@ -48,8 +50,9 @@ RESULTS_ARGS="$*"
 
 JOBS=1
 SECTION=ablation
+REUSE=0
 SEEDS="1"
-SEQUENCES="loop shake forward rotation exposure orbit euroc room"
+SEQUENCES="loop shake forward rotation exposure orbit pan euroc room"
 CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor no-contrast-floor bilinear texture-loss no-texture-loss two-view free-sigma smooth newest-model no-young-ba"
 WORK="ablation_out"
 while (($#)); do
@@ -60,6 +63,7 @@ while (($#)); do
     --seeds) SEEDS="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
     --section) SECTION="$2"; shift 2 ;;
+    --reuse) REUSE=1; shift ;;
     *) echo "ablation: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -135,6 +139,7 @@ jobs_list=()
 for s in $SEQUENCES; do
   while read -r name d extra; do
     for c in $CONFIGS; do
+      [ "$REUSE" = 1 ] && [ -f "$WORK/run_${name}_$c/stats.json" ] && continue
       jobs_list+=("$DSM run $d $extra --sequential --out $WORK/run_${name}_$c --quiet $(args_for "$c") > $WORK/run_${name}_$c.log 2>&1")
     done
   done < <(runs_for "$s")
