@@ -46,7 +46,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 RESULTS_COLUMNS=("sequence" "config" "KF ATE (mm)" "keyframes" "map points" "points created" "PBA ms/KF (mean)" "runs" "ATE per seed (mm)")
 source scripts/results.sh
-RESULTS_ARGS="$*"
+RESULTS_ARGS=$(results_args "$@")
 
 JOBS=1
 SECTION=ablation

@@ -23,12 +23,23 @@ if [ "${1:-}" = --print-header ]; then
   results_header
   exit 0
 fi
+# The arguments as a shell would take them again (those with spaces quoted).
+results_args() {
+  local arg out=""
+  for arg in "$@"; do
+    if [[ "$arg" == *" "* ]]; then out+=" \"$arg\""; else out+=" $arg"; fi
+  done
+  echo "${out# }"
+}
 
-# The provenance line of a section written now by `$0 $*`.
+# The provenance line of a section written now by `$0 $RESULTS_ARGS`.
 results_provenance() {
   local commit dirty="" cpu
   commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
-  if [ -n "$(git status --porcelain --untracked-files=no 2>/dev/null)" ]; then dirty=" with uncommitted changes"; fi
+  # Changes to the files these scripts write do not count.
+  if [ -n "$(git status --porcelain --untracked-files=no -- . ':!docs/results.md' ':!README.md' 2>/dev/null)" ]; then
+    dirty=" with uncommitted changes"
+  fi
   cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null)
   echo "Written by \`scripts/$(basename "$0")${RESULTS_ARGS:+ $RESULTS_ARGS}\` on $(date -u '+%Y-%m-%d %H:%M') UTC at commit $commit$dirty, on ${cpu:-an unknown CPU} ($(nproc) cores)."
 }
