@@ -2,6 +2,7 @@
 #include "dsm/io/options_io.h"
 
 #include <charconv>
+#include <concepts>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -24,12 +25,8 @@ struct OptionEntry {
 };
 
 // The shortest text that reads back as the same value.
-std::string Format(double v) {
-  char text[32];
-  const auto r = std::to_chars(text, text + sizeof(text), v);
-  return std::string(text, r.ptr);
-}
-std::string Format(float v) {
+template <std::floating_point T>
+std::string Format(T v) {
   char text[32];
   const auto r = std::to_chars(text, text + sizeof(text), v);
   return std::string(text, r.ptr);

@@ -102,13 +102,8 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, 
   DSM_CHECK(input.width() == camera_.width && input.height() == camera_.height, "frame size differs from the camera");
   DSM_CHECK(!suspended_ || state_ == TrackingState::kLost || state_ == TrackingState::kConfirming,
             "a suspended map is lost");
-  if (seen_index_ >= 0 && (index <= seen_index_ || t_ns <= seen_t_ns_)) {
-    throw InputError("frame " + std::to_string(index) + " at t_ns " + std::to_string(t_ns) +
-                     " does not come after frame " + std::to_string(seen_index_) + " at t_ns " +
-                     std::to_string(seen_t_ns_) + ": frames must come in time order");
-  }
-  if (!suspended_) ++stats_.frames;  // A suspended map's frame counts once it is tracked.
   NoteTimestamp(index, t_ns);
+  if (!suspended_) ++stats_.frames;  // A suspended map's frame counts once it is tracked.
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
   if (stats_.smoothing_sigma < 0.0) ChooseNoiseHandling(input);
   Image<float> smoothed;

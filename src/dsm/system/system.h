@@ -338,6 +338,7 @@ class System {
   // The frame as tracking sees it: `input`, or it smoothed into `storage` (stats_.smoothing_sigma).
   const Image<float>& Smoothed(const Image<float>& input, Image<float>* storage) const;
   // Process: frame `index` at t_ns is the current one; the frame interval follows the recording.
+  // Throws InputError, changing nothing, when index or t_ns does not come after the last frame's.
   void NoteTimestamp(int index, int64_t t_ns);
   // A lost frame: counted, its episode opened or extended.
   FrameReport LostFrame(FrameReport report, int64_t t_ns, std::string reason);

@@ -24,10 +24,15 @@ int System::FramesSinceTrusted(int index) const {
 }
 
 void System::NoteTimestamp(int index, int64_t t_ns) {
+  if (seen_index_ >= 0 && (index <= seen_index_ || t_ns <= seen_t_ns_)) {
+    throw InputError("frame " + std::to_string(index) + " at t_ns " + std::to_string(t_ns) +
+                     " does not come after frame " + std::to_string(seen_index_) + " at t_ns " +
+                     std::to_string(seen_t_ns_) + ": frames must come in time order");
+  }
   // The recording's frame interval: the median over the last steps between frames taken in turn
   // (per index step: frames dropped or skipped between them share it).
   constexpr size_t kSteps = 15;
-  if (seen_index_ >= 0 && index > seen_index_ && t_ns > seen_t_ns_) {
+  if (seen_index_ >= 0) {
     interval_steps_.push_back(static_cast<double>(t_ns - seen_t_ns_) / (index - seen_index_));
     if (interval_steps_.size() > kSteps) interval_steps_.pop_front();
     frame_interval_ns_ = Median(std::vector<double>(interval_steps_.begin(), interval_steps_.end()));
