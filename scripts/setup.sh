@@ -16,7 +16,7 @@ BUILD_PACKAGES=(
   libeigen3-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-features2d-dev libopencv-calib3d-dev libopencv-video-dev libopencv-videoio-dev
   libboost-dev libwebsocketpp-dev
-  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev libceres-dev
+  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev zlib1g-dev libceres-dev
   libgtest-dev libgmock-dev libbenchmark-dev   # found when the tree is configured
   python3-dev pybind11-dev                     # the Python module
   nodejs                                       # the report page's build (npm: three.js, esbuild)

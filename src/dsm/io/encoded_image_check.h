@@ -4,7 +4,7 @@
 // print their own errors and warnings to stderr).
 //
 // PNG: the signature, then every chunk (length, type, data, CRC-32 of type + data) up to IEND must
-// be complete and its CRC must match. JPEG: starts with SOI (FF D8) and ends with EOI (FF D9),
+// be complete and its CRC (zlib's crc32, the one PNG specifies) must match. JPEG: starts with SOI (FF D8) and ends with EOI (FF D9),
 // trailing zero padding allowed. Other formats are left to the decoder.
 #pragma once
 
@@ -16,9 +16,5 @@ namespace dsm {
 
 // Empty when the bytes look intact, else why not (e.g. "truncated: no IEND chunk").
 std::string CheckEncodedImage(const std::vector<uint8_t>& bytes);
-
-// CRC-32 as PNG uses it (ISO-HDLC: reflected polynomial 0xEDB88320, initial and final XOR
-// 0xFFFFFFFF); "123456789" gives 0xCBF43926.
-uint32_t Crc32(const uint8_t* data, size_t size);
 
 }  // namespace dsm

@@ -32,7 +32,7 @@ class FolderStore : public ImageStore {
   Image<uint8_t> Load(const std::string& name) const override { return ReadGray8(folder_ / name); }
   void Prefetch(const std::string& name) const override {
     // The kernel reads the file into its page cache in the background (a file paged out since it
-    // was last read otherwise costs its Load the disk's latency: up to 270 ms seen here).
+    // was last read otherwise costs its Load the disk's latency, hundreds of milliseconds).
     const int fd = open((folder_ / name).c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) return;  // Load reports it.
     posix_fadvise(fd, 0, 0, POSIX_FADV_WILLNEED);

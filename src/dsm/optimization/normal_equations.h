@@ -17,8 +17,8 @@
 // H_cp(p) is non-zero only in the 8-blocks of the point's host and target keyframes.
 //
 // Fixed cameras are held at zero: their rows and columns drop out before the solve, so H_cc and
-// b_c hold the free cameras only (most cameras of a window's problem are fixed, observed keyframes:
-// a dense 8n x 8n matrix over all of them was zeroed and copied on every linearisation).
+// b_c hold the free cameras only (most cameras of a window's problem are fixed, observed keyframes,
+// and a dense 8n x 8n matrix over all of them would be zeroed and copied on every linearisation).
 #pragma once
 
 #include <utility>

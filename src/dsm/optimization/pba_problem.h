@@ -142,7 +142,7 @@ class Problem {
   // The host-target pairs the observations use, in (host, target) order, those with a free keyframe
   // numbered as accumulator slots; and per chunk of points (fixed split) the slots its
   // observations add to, numbered locally: a chunk's accumulators are only the ones it uses (a
-  // dense chunk x slot table was tens of MB, zeroed on every linearisation).
+  // dense chunk x slot table would be tens of MB, zeroed on every linearisation).
   void IndexPairs();
 
   void UpdatePairs();

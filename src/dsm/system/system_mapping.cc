@@ -390,8 +390,8 @@ void System::ActivateCandidates(int newest) {
   for (const Eigen::Vector2f& px : old_pixels_) distance.Add(px);
   // Keep the window near its target number of points by adapting the spacing; it only shrinks
   // when the newest keyframe's view is not already covered by points it sees (the window's and
-  // the older map's). Points out of view or hidden cover nothing: counting them left the view of
-  // a camera circling past near objects thinly covered (scene `orbit` lost its scale).
+  // the older map's). Points out of view or hidden cover nothing: counting them would leave the
+  // view of a camera circling past near objects thinly covered, and its scale lost.
   const int target = options_.activation.target_points;
   const int num_active = static_cast<int>(active.size());
   const int covered = static_cast<int>(visible.size() + old_pixels_.size());

@@ -249,9 +249,8 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   };
   const bool predicted = plain.empty() && since <= options_.relocalisation.max_predicted_frames;
   // Why not, as told: the failure of the attempt with the most of its keyframe's points in view,
-  // not of the last one tried (often a keyframe that does not see the place at all: "too few
-  // points in view (0%)" hid that the reference's alignment, 55% in view, ended at 10x the
-  // residual level).
+  // not of the last one tried (often a keyframe that does not see the place at all, whose "too few
+  // points in view" would hide why the reference's alignment failed).
   std::string why;
   double why_visibility;
   const auto weigh = [&] {
@@ -280,11 +279,10 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   };
   weigh();
   // Nothing found: the reference's other guesses are refined too, and all weighed again. The
-  // coarse energy ranks poorly between views that overlap the keyframe's by different shares
-  // (`loop` with turned textures after 15 black frames: the right pose came from the guess ranked
-  // 4th of 16, 1.4 against 1.2, and ended at 1.04x the residual level, the two ranked first at
-  // 4.2-4.6x). Only then: a frame that relocalises from the two best of each keyframe stays as it
-  // was, and the cost (16 alignments instead of 2) is paid by frames that would fail.
+  // coarse energy ranks poorly between views that overlap the keyframe's by different shares, so
+  // the right pose may come from a guess ranked low. Only then: a frame that relocalises from the
+  // two best of each keyframe is found as before, and the cost (all the guesses refined, not two)
+  // is paid by frames that would fail.
   const bool found = best || (sighted && MovesAsOneCamera({index, cam_from_world(*sighted)},
                                                           sighted->aligned->mean_idepth));
   if (!found && !aligned.empty() && !aligned[0].rest.empty()) {

@@ -18,8 +18,7 @@ namespace {
 
 // The image is detected on at a fixed contrast: I' = 128 + d (I - mean) / deviation. FAST's
 // threshold is absolute (grey levels), so a dim or low-contrast view of a place finds few corners or
-// none where a bright view of it finds hundreds (the `exposure` scene after dark frames: 1 keypoint
-// at deviation 7, 1000 at 40), and the two could never be matched. BRIEF's comparisons of smoothed
+// none where a bright view of it finds hundreds, and the two could never be matched. BRIEF's comparisons of smoothed
 // intensities do not change under a positive affine map, so the descriptors stay comparable; FAST's
 // threshold becomes a share of the image's own contrast.
 template <typename Value>

@@ -42,10 +42,9 @@ struct TrackerOptions {
   std::vector<int> iterations = {10, 20, 50, 75};  // Per level, index = level.
   RobustOptions robust = TrackerRobustDefaults();
   // Lost below this share of usable points. Keyframes come long before tracking gets near it; it
-  // bounds what a relocalisation may keep in view: after 15 black frames on `loop` (seeds 2, 4)
-  // the camera has 5-12% of the last keyframe's points in view, aligns to 1.3x the residual level
-  // and moves on as one camera, where 10% gave the map up. A pose from 4% of ~1700 points (60-70
-  // points of 8 pixels each) is determined; whether it is right is the quality test's to judge.
+  // bounds what a relocalisation may keep in view: a camera back after a gap may see a tenth of
+  // the last keyframe's points or less, and a pose from 4% of a window's points (some 60 points of
+  // 8 pixels) is still determined; whether it is right is the quality test's to judge.
   double min_usage = 0.04;
   // A level is done once a step would move the image by less than this (pixels of that level,
   // bound at the image centre: |w| f + |v| f mean_idepth), accepted or not: smaller steps are
@@ -57,11 +56,11 @@ struct TrackerOptions {
   bool verified_reference = true;
   // Largest change of log contrast alpha from the guess per frame that Track believes (see
   // Track). Exposure changes between frames move it by < 0.1 once the exposure times are
-  // accounted for (shared EuRoC frames: 0.08 after the start, the path-traced room 0.012).
+  // accounted for.
   static constexpr double max_alpha_step = 0.4;
   // Frames of that change at most, however many frames apart the guess is: a few dropped or
-  // lost frames are no time for the contrast to halve, but they were enough for the flat
-  // prediction's alpha (-1 ... -2.8) to pass at 0.4 per frame.
+  // lost frames are no time for the contrast to halve, but at 0.4 per frame they would be enough
+  // for the flat prediction's alpha (-1 ... -3) to pass.
   int max_alpha_frames = 2;
 
   // The t-fit runs at every level of every frame: a smaller sample than the PBA's.
