@@ -200,8 +200,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
   both("robust.gross_residual", &RobustOptions::gross_residual,
        "Residuals beyond this are outliers of any model, grey levels.");
   both("robust.min_nu", &RobustOptions::min_nu, "Lower bound of the t-distribution's fitted degrees of freedom.");
-  both("robust.outlier_mixture", &RobustOptions::outlier_mixture,
-       "Fit each model as a t mixed with a uniform outlier component.");
   return e;
 }
 

@@ -37,7 +37,7 @@ bool LooksConsistent(const Map& map, const PinholeCamera& camera, const Point& p
   ObservationResiduals res;
   if (!EvaluateAtLevel0(map, camera, point, target, &res)) return false;
   int bad = 0;
-  for (int k = 0; k < kPatternSize; ++k) bad += model.IsClearOutlier(std::sqrt(res.weight_g[k]) * res.r[k]);
+  for (int k = 0; k < kPatternSize; ++k) bad += model.IsOutlier(std::sqrt(res.weight_g[k]) * res.r[k]);
   return bad <= max_bad_ratio * kPatternSize;
 }
 

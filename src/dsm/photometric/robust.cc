@@ -66,8 +66,7 @@ double NuFromKurtosis(const std::vector<float>& kept, const RobustOptions& optio
 }
 
 // The t alone, fitted to the residuals within min(3 sigma_MAD, R) as a sample of the t truncated
-// there (robust.outlier_mixture: false; the paper's fit). Unstable when most residuals are
-// outliers: see robust.h.
+// there.
 ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, const RobustOptions& options,
                          ErrorModel m) {
   const double cut = std::min(3.0 * mad_sigma, options.gross_residual);
@@ -91,84 +90,6 @@ ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, con
   m.nu = ClampNu(std::exp(fit.x(0)), options);
   m.sigma = std::exp(fit.x(1));
   m.inlier_threshold = TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile);
-  m.outlier_threshold = m.inlier_threshold;
-  m.fitted = true;
-  return m;
-}
-
-// The t mixed with a uniform outlier component on [0, R] (robust.h).
-ErrorModel FitTMixture(const std::vector<double>& abs_r, double mad_sigma, const RobustOptions& options,
-                       ErrorModel m) {
-  // Starting nu from the kurtosis of the residuals within 3 sigma of the MAD.
-  const double R = options.gross_residual;
-  const std::vector<float> core = CoreResiduals(abs_r, std::min(3.0 * mad_sigma, R));
-  if (static_cast<int>(core.size()) < options.min_residuals) return m;
-  const double nu0 = NuFromKurtosis(core, options);
-
-  // Histogram of a = |r| on [0, R).
-  constexpr int kBins = 512;
-  const double width = R / kBins;
-  std::array<float, kBins> count{};
-  int n_in = 0;
-  for (double a : abs_r) {
-    if (a >= R) continue;
-    count[std::min(kBins - 1, static_cast<int>(a / width))] += 1.f;
-    ++n_in;
-  }
-  if (n_in < options.min_residuals) return m;
-  std::array<float, kBins> a2{};  // Squared bin centres.
-  for (int j = 0; j < kBins; ++j) a2[j] = static_cast<float>((j + 0.5) * width * (j + 0.5) * width);
-  const double max_sigma = R / 3.0;  // A wider t is the outlier component's job.
-  const auto decode = [&](const Eigen::VectorXd& x, double* nu, double* sigma, double* pi) {
-    *nu = ClampNu(std::exp(x(0)), options);
-    *sigma = std::clamp(std::exp(x(1)), 1e-2, max_sigma);
-    *pi = std::clamp(1.0 / (1.0 + std::exp(-x(2))), 1e-3, 1.0);
-  };
-  const auto nll = [&](const Eigen::VectorXd& x) {
-    double nu, sigma, pi;
-    decode(x, &nu, &sigma, &pi);
-    // log(pi * 2 t(a)) = log(2 pi C) - (nu + 1)/2 log(1 + a^2 / (nu sigma^2))
-    const double log_c = std::log(2.0 * pi) + LogGamma(0.5 * (nu + 1.0)) - LogGamma(0.5 * nu) -
-                         0.5 * std::log(nu * M_PI) - std::log(sigma);
-    const float outlier = static_cast<float>((1.0 - pi) / R);
-    const float inv = static_cast<float>(1.0 / (nu * sigma * sigma)), e = static_cast<float>(-0.5 * (nu + 1.0));
-    const float lc = static_cast<float>(log_c);
-    double sum = 0.0;
-    for (int j = 0; j < kBins; ++j) {
-      if (count[j] == 0.f) continue;
-      const float density = std::exp(lc + e * FastLog1p(a2[j] * inv)) + outlier;
-      sum += count[j] * std::log(density);
-    }
-    return -sum;
-  };
-  std::vector<double> sorted = abs_r;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 4, sorted.end());
-  const double quartile_sigma = std::max(1e-2, sorted[sorted.size() / 4] / 0.3186);  // P(|N(0,1)| < 0.3186) = 1/4
-  NelderMeadOptions nm;
-  nm.tolerance = 1e-2;
-  nm.max_iterations = 300;
-  nm.initial_step = 0.3;
-  NelderMeadResult best;
-  best.value = std::numeric_limits<double>::infinity();
-  for (const Eigen::Vector3d& x0 : {Eigen::Vector3d(std::log(nu0), std::log(mad_sigma), std::log(9.0)),
-                                    Eigen::Vector3d(std::log(5.0), std::log(quartile_sigma), 0.0)}) {
-    const NelderMeadResult fit = NelderMead(nll, x0, nm);
-    if (fit.value < best.value) best = fit;
-  }
-  decode(best.x, &m.nu, &m.sigma, &m.inlier_share);
-  m.inlier_threshold = std::min(R, TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile));
-  // The magnitude a* where both components are equally likely, pi 2 t(a*) = (1 - pi) / R:
-  //   a* = sigma sqrt(nu (exp(2 L / (nu + 1)) - 1)),   L = log(2 pi C R / (1 - pi)),
-  // C = Gamma((nu + 1)/2) / (Gamma(nu/2) sqrt(nu pi) sigma). Beyond it a residual is more likely an
-  // outlier than an inlier.
-  double crossover = R;
-  if (m.inlier_share < 1.0) {
-    const double log_c = LogGamma(0.5 * (m.nu + 1.0)) - LogGamma(0.5 * m.nu) - 0.5 * std::log(m.nu * M_PI) -
-                         std::log(m.sigma);
-    const double L = std::log(2.0 * m.inlier_share * R / (1.0 - m.inlier_share)) + log_c;
-    crossover = L > 0.0 ? m.sigma * std::sqrt(m.nu * std::expm1(2.0 * L / (m.nu + 1.0))) : 0.0;
-  }
-  m.outlier_threshold = std::clamp(crossover, m.inlier_threshold, R);
   m.fitted = true;
   return m;
 }
@@ -184,9 +105,12 @@ RobustKind ParseRobustKind(const std::string& name, const std::string& where) {
 
 std::string RobustKindName(RobustKind kind) {
   switch (kind) {
-    case RobustKind::kStudentT: return "t";
-    case RobustKind::kHuberFixed: return "huber";
-    case RobustKind::kHuberMad: return "huber-mad";
+    case RobustKind::kStudentT:
+      return "t";
+    case RobustKind::kHuberFixed:
+      return "huber";
+    case RobustKind::kHuberMad:
+      return "huber-mad";
   }
   return "?";
 }
@@ -204,9 +128,8 @@ ErrorModel DefaultErrorModel(const RobustOptions& options) {
   ErrorModel m;
   m.kind = options.kind;
   m.huber_k = options.huber_threshold;
-  m.inlier_threshold = options.kind == RobustKind::kStudentT ? TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile)
-                                                             : m.huber_k;
-  m.outlier_threshold = m.inlier_threshold;
+  m.inlier_threshold =
+      options.kind == RobustKind::kStudentT ? TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile) : m.huber_k;
   return m;
 }
 
@@ -215,7 +138,6 @@ void CapErrorModelScale(double max_sigma, ErrorModel* model) {
   const double f = max_sigma / model->sigma;
   model->sigma = max_sigma;
   model->inlier_threshold *= f;
-  model->outlier_threshold *= f;
 }
 
 double ErrorModelScaleCap(double max_ratio, const std::vector<uint8_t>& fitted, const std::vector<ErrorModel>& models) {
@@ -262,15 +184,14 @@ ErrorModel FitErrorModel(const std::vector<float>& residuals, const RobustOption
   if (options.kind == RobustKind::kHuberMad) {
     m.sigma = mad_sigma;
     m.huber_k = 1.345 * mad_sigma;
-    m.inlier_threshold = m.outlier_threshold = m.huber_k;
+    m.inlier_threshold = m.huber_k;
     m.fitted = true;
     return m;
   }
-  const ErrorModel fitted =
-      options.outlier_mixture ? FitTMixture(abs_r, mad_sigma, options, m) : FitTruncatedT(abs_r, mad_sigma, options, m);
+  const ErrorModel fitted = FitTruncatedT(abs_r, mad_sigma, options, m);
   // A degenerate sample (e.g. a black frame) must not leave a model that poisons later sums.
-  const bool finite = std::isfinite(fitted.nu) && std::isfinite(fitted.sigma) && std::isfinite(fitted.inlier_threshold) &&
-                      std::isfinite(fitted.outlier_threshold) && fitted.sigma > 0.0;
+  const bool finite = std::isfinite(fitted.nu) && std::isfinite(fitted.sigma) &&
+                      std::isfinite(fitted.inlier_threshold) && fitted.sigma > 0.0;
   return finite ? fitted : m;
 }
 

@@ -7,27 +7,13 @@
 //
 // w = rho'(r) / r is the iteratively-reweighted least-squares weight.
 //
-// The fit (t), by default: the residuals within 3 sigma_MAD (sigma_MAD = 1.4826 MAD, at most
+// The fit (t): the residuals within 3 sigma_MAD (sigma_MAD = 1.4826 MAD, at most
 // R = `gross_residual`) are a sample of the t truncated there; (nu, sigma) maximise their
 // likelihood normalised by the kept mass 2 F(cut / sigma) - 1 (Nelder–Mead from
 // nu = (4k - 6)/(k - 3), k = max(kurtosis, 4), and sigma_MAD).
-// With `outlier_mixture`: the residuals of a keyframe are inliers (photo-consistent
-// observations, t distributed) mixed with outliers (occlusions, reflections, wrong depths), whose
-// magnitudes spread over the whole range: beyond R every residual is an outlier, and below it the
-// density of a = |r| is
-//   f(a) = pi 2 t(a; nu, sigma) + (1 - pi) / R,      0 <= a <= R,
-// fitted by maximum likelihood over (log nu, log sigma, logit pi) with Nelder–Mead. The inlier
-// share pi is what a keyframe whose view is mostly covered by a near object changes. The
-// likelihood is summed over a fine histogram of a (bins of R / 512, far below any sigma of real
-// images), so its cost does not grow with the number of residuals. Two starts, the better fit
-// kept: sigma_MAD with nu from the kurtosis as above and pi = 0.9; and sigma from the lower
-// quartile of a (which stays in the inliers while they are at least a quarter) with nu = 5 and
-// pi = 0.5.
 // A pixel is an outlier when |r| exceeds the inlier threshold: the `inlier_quantile` quantile of
 // the fitted t (times sigma, at most R), or k for Huber (the pixel masks of the PBA and the
-// tracker). It is clearly an outlier beyond the outlier threshold: with the mixture, where the
-// outlier component becomes the likelier one (pi 2 t(a) = (1 - pi) / R, at least the inlier
-// threshold); otherwise the inlier threshold.
+// tracker).
 #pragma once
 
 #include <cmath>
@@ -48,7 +34,6 @@ struct RobustOptions {
   double huber_threshold = 9.0;   // Fixed Huber k, grey levels.
   double inlier_quantile = 0.95;  // Quantile of the fitted t that bounds inlier pixels.
   double gross_residual = 60.0;   // R: residuals beyond are outliers of any model (grey levels).
-  bool outlier_mixture = false;   // t + uniform outliers (false: the t alone, truncated at 3 sigma_MAD).
   double min_nu = 1.0;            // Lower bound of the fitted degrees of freedom.
   int min_residuals = 100;        // Fewer residuals keep the default model.
   int max_fit_samples = 3000;     // The fit uses at most this many residuals (evenly strided).
@@ -62,14 +47,11 @@ struct ErrorModel {
   double sigma = 7.5;   // t: scale; Huber-MAD: 1.4826 MAD
   double huber_k = 9.0; // Huber threshold
   double inlier_threshold = 15.1;  // |r| above this marks an outlier pixel
-  double outlier_threshold = 15.1; // |r| above this is more likely an outlier than an inlier
-  double inlier_share = 1.0;       // t: fitted share pi of inliers among |r| <= gross_residual
   bool fitted = false;             // Fitted to residuals (false: the default model).
 
   double Weight(double r) const;  // Both inline below: the hottest calls of the system.
   double Energy(double r) const;
   bool IsOutlier(double r) const { return std::abs(r) > inlier_threshold; }
-  bool IsClearOutlier(double r) const { return std::abs(r) > outlier_threshold; }
 };
 
 // log(1 + x) for x >= 0 to ~1e-6 relative: log(m 2^e) = e ln 2 + log(m), m in [1, 2), with

@@ -41,30 +41,6 @@ TEST(FitErrorModel, FitBeatsTheStartingPoint) {
   EXPECT_LT(StudentTNegLogLikelihood(kept, m.nu, m.sigma), StudentTNegLogLikelihood(kept, 5.0, 7.5));
 }
 
-TEST(FitErrorModel, MixtureSeparatesUniformOutliers) {
-  // 60% t(nu 5, sigma 4) inliers, 40% outliers with |r| uniform on [0, R]: the model's own form.
-  RobustOptions options;
-  options.max_fit_samples = 20000;
-  std::vector<float> r = SampleT(5.0, 4.0, 12000, 5);
-  std::mt19937 rng(6);
-  std::uniform_real_distribution<double> u(-options.gross_residual, options.gross_residual);
-  for (int i = 0; i < 8000; ++i) r.push_back(static_cast<float>(u(rng)));
-  options.outlier_mixture = true;
-  const ErrorModel mix = FitErrorModel(r, options);
-  EXPECT_NEAR(mix.inlier_share, 0.6, 0.03);
-  EXPECT_NEAR(mix.sigma, 4.0, 0.6);
-  // Beyond the crossover an outlier is the likelier explanation; the t inlier threshold is below it.
-  EXPECT_GE(mix.outlier_threshold, mix.inlier_threshold);
-  EXPECT_LT(mix.outlier_threshold, options.gross_residual);
-  // The t alone, truncated at 3 sigma_MAD, widens a little to take the outliers within the cut in.
-  options.outlier_mixture = false;
-  const ErrorModel alone = FitErrorModel(r, options);
-  EXPECT_GT(alone.sigma, mix.sigma);
-  EXPECT_LT(alone.sigma, 1.25 * 4.0);
-  EXPECT_EQ(alone.outlier_threshold, alone.inlier_threshold);
-  EXPECT_EQ(alone.inlier_share, 1.0);
-}
-
 TEST(ErrorModel, WeightIsDerivativeOverResidual) {
   for (RobustKind kind : {RobustKind::kStudentT, RobustKind::kHuberFixed}) {
     ErrorModel m;
@@ -114,14 +90,11 @@ TEST(FitErrorModel, HuberVariantsAndSmallSamples) {
 
 TEST(FitErrorModel, UniformResidualsGiveAFiniteModel) {
   // A black frame against a black frame: every residual zero (or all alike).
-  for (const bool mixture : {true, false}) {
-    RobustOptions options;
-    options.outlier_mixture = mixture;
-    for (const float value : {0.f, 3.f}) {
-      const ErrorModel m = FitErrorModel(std::vector<float>(4000, value), options);
-      EXPECT_TRUE(std::isfinite(m.nu) && std::isfinite(m.sigma) && m.sigma > 0.0) << mixture << " " << value;
-      EXPECT_TRUE(std::isfinite(m.inlier_threshold) && std::isfinite(m.Weight(1.0)) && std::isfinite(m.Energy(1.0)));
-    }
+  const RobustOptions options;
+  for (const float value : {0.f, 3.f}) {
+    const ErrorModel m = FitErrorModel(std::vector<float>(4000, value), options);
+    EXPECT_TRUE(std::isfinite(m.nu) && std::isfinite(m.sigma) && m.sigma > 0.0) << value;
+    EXPECT_TRUE(std::isfinite(m.inlier_threshold) && std::isfinite(m.Weight(1.0)) && std::isfinite(m.Energy(1.0)));
   }
 }
 
@@ -130,12 +103,10 @@ TEST(CapErrorModelScale, BoundsSigmaAndScalesTheThresholdsWithIt) {
   m.nu = 1.5;
   m.sigma = 20.0;
   m.inlier_threshold = 90.0;
-  m.outlier_threshold = 120.0;
   CapErrorModelScale(5.0, &m);
   EXPECT_DOUBLE_EQ(m.sigma, 5.0);
   EXPECT_DOUBLE_EQ(m.nu, 1.5);
   EXPECT_DOUBLE_EQ(m.inlier_threshold, 22.5);
-  EXPECT_DOUBLE_EQ(m.outlier_threshold, 30.0);
   // A scale within the bound and a Huber model are left as they are.
   ErrorModel within = m;
   CapErrorModelScale(8.0, &within);

@@ -82,7 +82,7 @@ DebugWriter::DebugWriter(const fs::path& dir, const Dataset& dataset, const Undi
   if (!table_) throw InputError((dir / "keyframes.csv").string() + ": cannot write file");
   table_ << "keyframe,frame,t_s,tracking_rmse,inlier_ratio,window,covisible,points,points_created,points_culled,"
             "observations_removed,reobservations,pba_iterations,step,median_depth,step_over_depth,gt_step_m,scale,"
-            "scale_drift,depth_scale_drift,depth_bad_share,error_sigma,error_nu,inlier_threshold,inlier_share,"
+            "scale_drift,depth_scale_drift,depth_bad_share,error_sigma,error_nu,inlier_threshold,"
             "observations_texture_lost\n";
   frames_.open(dir / "frames.csv");
   if (!frames_) throw InputError((dir / "frames.csv").string() + ": cannot write file");
@@ -197,7 +197,7 @@ void DebugWriter::WriteKeyframe(const System& system, int kf) {
          << "," << Number(median_depth) << "," << Number(step / median_depth) << "," << Number(gt_step) << ","
          << Number(scale) << "," << Number(drift) << "," << Number(depth_drift) << "," << Number(bad_share) << ","
          << Number(keyframe.error_model.sigma) << "," << Number(keyframe.error_model.nu) << ","
-         << Number(keyframe.error_model.inlier_threshold) << "," << Number(keyframe.error_model.inlier_share) << ","
+         << Number(keyframe.error_model.inlier_threshold) << ","
          << log.observations_texture_lost << "\n";
 
   char name[64];

@@ -19,7 +19,7 @@
 //                                       point depths in their hosts over the true depths, as a
 //                                       median relative to the start scale, and the share of
 //                                       points more than 20 % off that median
-//     error_sigma, error_nu, inlier_threshold, inlier_share
+//     error_sigma, error_nu, inlier_threshold
 //                                       the keyframe's fitted error model (robust.h)
 //     observations_texture_lost         of observations_removed, those whose target showed no
 //                                       trace of the point's texture (texture_loss.h)
