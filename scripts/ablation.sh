@@ -18,7 +18,7 @@
 #            alone, as before it had the window's whole size), nc3, nc1, nt3, nt6, levels1, levels3,
 #            huber, huber-mad,
 #            move-covisible (covisible poses optimised, as in the paper), global-ba,
-#            mixture (error model: the t mixed with a uniform outlier component), no-occlusion (observations
+#            no-occlusion (observations
 #            also of points hidden by nearer map points), all-reference (the tracker also uses
 #            points without a verified observation in the keyframe), no-noise-floor (candidates
 #            also where the gradient is at the image noise's level), no-contrast-floor (candidates
@@ -33,7 +33,12 @@
 #            newest-model (only the newest keyframe's error model is fitted, to the residuals of
 #            points hosted by free keyframes, as the original DSM: pba.refit_all_models false),
 #            no-young-ba (without the whole young map's bundle adjustments at 10, 20 and 40 keyframes:
-#            system.young_map_ba_last 0)
+#            system.young_map_ba_last 0), texture-check (the occlusion test asks the image whether a
+#            plain near surface hides a point: occlusion.texture_check all), candidate-occluders
+#            (converged candidates hide points too: occlusion.candidate_interval 0.25),
+#            outside-per-point (each point's newest observation outside the window alone enters the
+#            problem: pba.outside_observations_per_point 1), young-step (the young map adjusted
+#            every 10 keyframes: system.young_map_ba_step 10)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -53,7 +58,7 @@ SECTION=ablation
 REUSE=0
 SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure orbit pan euroc room"
-CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba mixture no-occlusion all-reference no-noise-floor no-contrast-floor bilinear texture-loss no-texture-loss two-view free-sigma smooth newest-model no-young-ba"
+CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba no-occlusion all-reference no-noise-floor no-contrast-floor bilinear texture-loss no-texture-loss two-view free-sigma smooth newest-model no-young-ba texture-check candidate-occluders outside-per-point young-step"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -76,7 +81,6 @@ source scripts/dsm_binary.sh
 DATA="$(cd "${DSM_SHARED_DATA_DIR:-../shared/data}" && pwd)"
 mkdir -p "$WORK"
 printf 'window:\n  optimize_covisible_poses: true\n' > "$WORK/move-covisible.yaml"
-printf 'robust:\n  outlier_mixture: true\n' > "$WORK/mixture.yaml"
 printf 'occlusion:\n  enabled: false\n' > "$WORK/no-occlusion.yaml"
 printf 'tracker:\n  verified_reference: false\n' > "$WORK/all-reference.yaml"
 printf 'candidates:\n  noise_factor: 0\n' > "$WORK/no-noise-floor.yaml"
@@ -89,6 +93,10 @@ printf 'pba:\n  max_sigma_ratio: 0\n' > "$WORK/free-sigma.yaml"
 printf 'system:\n  smoothing_sigma: -1\n' > "$WORK/smooth.yaml"
 printf 'pba:\n  refit_all_models: false\n' > "$WORK/newest-model.yaml"
 printf 'system:\n  young_map_ba_last: 0\n' > "$WORK/no-young-ba.yaml"
+printf 'occlusion:\n  texture_check: all\n' > "$WORK/texture-check.yaml"
+printf 'occlusion:\n  candidate_interval: 0.25\n' > "$WORK/candidate-occluders.yaml"
+printf 'pba:\n  outside_observations_per_point: 1\n' > "$WORK/outside-per-point.yaml"
+printf 'system:\n  young_map_ba_step: 10\n' > "$WORK/young-step.yaml"
 
 args_for() {
   case "$1" in
@@ -103,7 +111,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | mixture | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | texture-loss | no-texture-loss | two-view | free-sigma | smooth | newest-model | no-young-ba) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | texture-loss | no-texture-loss | two-view | free-sigma | smooth | newest-model | no-young-ba | texture-check | candidate-occluders | outside-per-point | young-step) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac
