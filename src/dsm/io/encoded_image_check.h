@@ -4,8 +4,9 @@
 // print their own errors and warnings to stderr).
 //
 // PNG: the signature, then every chunk (length, type, data, CRC-32 of type + data) up to IEND must
-// be complete and its CRC (zlib's crc32, the one PNG specifies) must match. JPEG: starts with SOI (FF D8) and ends with EOI (FF D9),
-// trailing zero padding allowed. Other formats are left to the decoder.
+// be complete and its CRC (zlib's crc32, the one PNG specifies) must match. JPEG: starts with SOI
+// (FF D8) and ends with EOI (FF D9), trailing zero padding allowed. Other formats are left to the
+// decoder.
 #pragma once
 
 #include <cstdint>

@@ -65,8 +65,8 @@ double NuFromKurtosis(const std::vector<float>& kept, const RobustOptions& optio
   return ClampNu((4.0 * kurtosis - 6.0) / (kurtosis - 3.0), options);
 }
 
-// The t alone, fitted to the residuals within min(3 sigma_MAD, R) as a sample of the t truncated
-// there.
+// The t fitted to the residuals within min(3 sigma_MAD, R) as a sample of the t truncated there
+// (robust.h).
 ErrorModel FitTruncatedT(const std::vector<double>& abs_r, double mad_sigma, const RobustOptions& options,
                          ErrorModel m) {
   const double cut = std::min(3.0 * mad_sigma, options.gross_residual);
@@ -105,12 +105,9 @@ RobustKind ParseRobustKind(const std::string& name, const std::string& where) {
 
 std::string RobustKindName(RobustKind kind) {
   switch (kind) {
-    case RobustKind::kStudentT:
-      return "t";
-    case RobustKind::kHuberFixed:
-      return "huber";
-    case RobustKind::kHuberMad:
-      return "huber-mad";
+    case RobustKind::kStudentT: return "t";
+    case RobustKind::kHuberFixed: return "huber";
+    case RobustKind::kHuberMad: return "huber-mad";
   }
   return "?";
 }
@@ -128,8 +125,8 @@ ErrorModel DefaultErrorModel(const RobustOptions& options) {
   ErrorModel m;
   m.kind = options.kind;
   m.huber_k = options.huber_threshold;
-  m.inlier_threshold =
-      options.kind == RobustKind::kStudentT ? TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile) : m.huber_k;
+  m.inlier_threshold = options.kind == RobustKind::kStudentT ? TQuantileThreshold(m.nu, m.sigma, options.inlier_quantile)
+                                                             : m.huber_k;
   return m;
 }
 

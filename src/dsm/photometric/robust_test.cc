@@ -98,7 +98,7 @@ TEST(FitErrorModel, UniformResidualsGiveAFiniteModel) {
   }
 }
 
-TEST(CapErrorModelScale, BoundsSigmaAndScalesTheThresholdsWithIt) {
+TEST(CapErrorModelScale, BoundsSigmaAndScalesTheInlierThresholdWithIt) {
   ErrorModel m;
   m.nu = 1.5;
   m.sigma = 20.0;

@@ -18,9 +18,9 @@ namespace {
 
 // The image is detected on at a fixed contrast: I' = 128 + d (I - mean) / deviation. FAST's
 // threshold is absolute (grey levels), so a dim or low-contrast view of a place finds few corners or
-// none where a bright view of it finds hundreds, and the two could never be matched. BRIEF's comparisons of smoothed
-// intensities do not change under a positive affine map, so the descriptors stay comparable; FAST's
-// threshold becomes a share of the image's own contrast.
+// none where a bright view of it finds hundreds, and the two could never be matched. BRIEF's
+// comparisons of smoothed intensities do not change under a positive affine map, so the descriptors
+// stay comparable; FAST's threshold becomes a share of the image's own contrast.
 template <typename Value>
 OrbFeatures Detect(int w, int h, const Value& value, const FeaturePoseOptions& options) {
   double sum = 0.0, sum2 = 0.0;
