@@ -28,24 +28,44 @@ function(dsm_library)
   endif()
 endfunction()
 
-# dsm_test(<folder>/<name> SOURCES <files...> DEPS <targets...> [LABELS <labels...>])
-# The ctest name is <folder>/<name>; every test links the shared seeded test main.
+# dsm_test(<folder>/<name> SOURCES <files...> DEPS <targets...> [LABELS <labels...>] [SPLIT <suite>]
+#          [TIMEOUT <seconds>])
+# The ctest name is <folder>/<name>; every test links the shared seeded test main. With SPLIT, each
+# TEST(<suite>, <Case>) of the first source is a ctest of its own, <folder>/<name>/<Case>, so that
+# long end-to-end cases spread over the cores (read from the source, which then is a configure
+# dependency, so that no new case is left out).
 function(dsm_test name)
   if(NOT DSM_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "SPLIT;TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
   string(REPLACE "/" "_" target ${name})
   add_executable(${target} ${ARG_SOURCES})
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} dsm_test_main)
   dsm_target_flags(${target})
-  add_test(NAME ${name} COMMAND ${target})
+  set(tests ${name})
+  if(ARG_SPLIT)
+    list(GET ARG_SOURCES 0 source)
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${source})
+    file(STRINGS ${source} cases REGEX "^TEST\\(${ARG_SPLIT}, [A-Za-z0-9_]+\\)")
+    list(TRANSFORM cases REPLACE "^TEST\\(${ARG_SPLIT}, ([A-Za-z0-9_]+)\\).*" "\\1")
+    set(tests "")
+    foreach(case IN LISTS cases)
+      add_test(NAME ${name}/${case} COMMAND ${target} --gtest_filter=${ARG_SPLIT}.${case})
+      list(APPEND tests ${name}/${case})
+    endforeach()
+  else()
+    add_test(NAME ${name} COMMAND ${target})
+  endif()
   set(labels unit)
   if(ARG_LABELS)
     set(labels ${ARG_LABELS})
   endif()
-  set_tests_properties(${name} PROPERTIES LABELS "${labels}"
+  set_tests_properties(${tests} PROPERTIES LABELS "${labels}"
     ENVIRONMENT "DSM_SHARED_DATA=${DSM_SHARED_DATA_DIR};DSM_BINARY_DIR=${PROJECT_BINARY_DIR}")
+  if(ARG_TIMEOUT)
+    set_tests_properties(${tests} PROPERTIES TIMEOUT ${ARG_TIMEOUT})
+  endif()
 endfunction()
 
 # dsm_benchmark(<folder>/<name> SOURCES <files...> DEPS <targets...>)

@@ -53,8 +53,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "Levels of the image pyramids; the undistorted image size is rounded to divide by 2^(levels - 1).");
   Add(&e, "system.max_initialization_frames", &o->max_initialization_frames,
       "Frames the initialiser tries against one first frame before it starts over.");
-  Add(&e, "system.smoothing_sigma", &o->smoothing_sigma,
-      "Gaussian smoothing of every frame, pixels; 0: none; negative: smoothing_auto_sigma on noisy images only.");
   Add(&e, "system.interpolation", &o->interpolation,
       "How residuals sample images: auto (cubic B-spline on noisy images, else bilinear) | bilinear | bspline.");
   Add(&e, "system.texture_loss_min_noise", &o->texture_loss_min_noise,
@@ -63,8 +61,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
   Add(&e, "system.young_map_ba_first", &o->young_map_ba_first,
       "--mode dsm: the whole young map is bundle-adjusted at this many keyframes, then at twice as many ...");
   Add(&e, "system.young_map_ba_last", &o->young_map_ba_last, "... up to this many keyframes (0: never).");
-  Add(&e, "system.young_map_ba_step", &o->young_map_ba_step,
-      "> 0: the young map is adjusted every this many keyframes instead of at doubling counts.");
   Add(&e, "system.loop_ba_min_gap", &o->loop_ba_min_gap,
       "--mode dsm: a keyframe whose covisible keyframes reach this many keyframes back starts a loop bundle adjustment "
       "(0: off).");
@@ -85,9 +81,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "Median parallax of the corners before two views start the map, degrees.");
   Add(&e, "initializer.planar_start", &o->initializer.planar_start,
       "Start from the homography when one plane fills the view.");
-  Add(&e, "initializer.track_from_reference", &o->initializer.track_from_reference,
-      "Track each corner from the first frame every frame, not from the frame before.");
-  Add(&e, "initializer.refine_motion", &o->initializer.refine_motion, "Refine RANSAC's motion on all inliers.");
   Add(&e, "initializer.min_track_share", &o->initializer.min_track_share,
       "The initialiser starts over once fewer than this share of the first frame's corners are still tracked.");
   Add(&e, "tracker.levels", &o->tracker.levels, "Pyramid levels of the frame alignment, coarse to fine.");
@@ -145,12 +138,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
   Add(&e, "occlusion.depth_ratio", &o->occlusion.depth_ratio,
       "A point is nearer when its depth is below the other's over this ratio.");
   Add(&e, "occlusion.min_occluders", &o->occlusion.min_occluders, "Nearer points around a projection that hide it.");
-  Add(&e, "occlusion.span_px", &o->occlusion.span_px,
-      "How far on each side nearer points are looked for by texture_check between, pixels.");
-  Add(&e, "occlusion.texture_check", &o->occlusion.texture_check,
-      "When the image is asked whether a plain near surface hides a point: none | between | all.");
-  Add(&e, "occlusion.candidate_interval", &o->occlusion.candidate_interval,
-      "> 0: candidates whose depth interval is below this hide points too (0: only points).");
   Add(&e, "pba.levels", &o->pba.levels, "N_p: pyramid levels of the bundle adjustment, coarse to fine.");
   Add(&e, "pba.max_iterations", &o->pba.max_iterations, "LM iterations per level.");
   Add(&e, "pba.initial_lambda", &o->pba.initial_lambda, "LM's starting damping.");
@@ -162,21 +149,14 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "Per point of a held keyframe: its newest observations outside the window that enter the problem.");
   Add(&e, "pba.max_outside_keyframes", &o->pba.max_outside_keyframes,
       "The most keyframes outside the window whose observations enter the problem (0: all).");
-  Add(&e, "pba.outside_observations_per_point", &o->pba.outside_observations_per_point,
-      "> 0: each point's newest this many observations outside the window (0: max_outside_observations).");
   Add(&e, "pba.max_sigma_ratio", &o->pba.max_sigma_ratio,
       "A keyframe's fitted error scale is bounded by this multiple of the problem's median (0: free).");
   Add(&e, "pba.refit_all_models", &o->pba.refit_all_models,
       "Refit every keyframe's error model in each adjustment (false: the newest only, as the original DSM).");
-  Add(&e, "pba.texture_loss_ratio", &o->pba.texture_loss.max_variance_ratio,
-      "> 0: an observation whose target keeps less than this share of its pattern's variance has lost its texture (0: "
-      "see system.texture_loss_min_noise).");
   Add(&e, "pba.texture_min_host_variance", &o->pba.texture_loss.min_host_variance,
       "The texture-loss test judges patterns of at least this variance in their host, grey levels squared.");
   Add(&e, "pba.texture_max_depth_ratio", &o->pba.texture_loss.max_depth_ratio,
       "... seen at most this much deeper in the target than in the host.");
-  Add(&e, "pba.texture_loss_in_energy", &o->pba.texture_loss.in_energy,
-      "An observation whose texture is lost leaves the energy too (false: the models' fit and the removal only).");
   // The robust function applies to the bundle adjustment and the tracker alike.
   RobustOptions* pba = &o->pba.robust;
   RobustOptions* tracker = &o->tracker.robust;

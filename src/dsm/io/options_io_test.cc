@@ -18,10 +18,10 @@ using testing::WriteText;
 
 TEST(OptionsYaml, SetsTheKeysItNamesAndLeavesTheRest) {
   const auto dir = ScratchDir("options_yaml");
-  WriteText(dir / "o.yaml", "occlusion: {candidate_interval: 0.25}\nrobust: {inlier_quantile: 0.9}\n");
+  WriteText(dir / "o.yaml", "occlusion: {depth_ratio: 1.5}\nrobust: {inlier_quantile: 0.9}\n");
   SystemOptions options;
   ApplyOptionsYaml(dir / "o.yaml", &options);
-  EXPECT_FLOAT_EQ(options.occlusion.candidate_interval, 0.25f);
+  EXPECT_FLOAT_EQ(options.occlusion.depth_ratio, 1.5f);
   // One key, both error models: the adjustment's and the tracker's.
   EXPECT_DOUBLE_EQ(options.pba.robust.inlier_quantile, 0.9);
   EXPECT_DOUBLE_EQ(options.tracker.robust.inlier_quantile, 0.9);
@@ -64,7 +64,7 @@ TEST(OptionsYaml, PrintedOptionsReadBackTheSame) {
     ++keys;
     EXPECT_TRUE(std::regex_match(line, key_line)) << line;
   }
-  EXPECT_EQ(keys, 75);
+  EXPECT_EQ(keys, 65);
   EXPECT_EQ(sections, 12);
   SystemOptions back;
   back.pba.levels = 1;  // Overwritten by the text.
@@ -77,7 +77,6 @@ TEST(OptionsYaml, PrintedOptionsReadBackTheSame) {
   changed.candidates.threshold_margin = 1.f / 3.f;
   changed.tracker.iterations = {3, 4, 5, 6};
   changed.interpolation = "bspline";
-  changed.occlusion.texture_check = "between";
   changed.pba.robust.kind = changed.tracker.robust.kind = RobustKind::kHuberMad;
   changed.pba.robust.min_nu = changed.tracker.robust.min_nu = 2.5;
   changed.window.optimize_covisible_poses = true;

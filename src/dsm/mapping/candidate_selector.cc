@@ -20,8 +20,6 @@ void CandidateSelectorOptions::Validate() const {
   if (!(noise_factor >= 0)) throw InputError("candidates.noise_factor must be non-negative");
   if (!(contrast_factor >= 0)) throw InputError("candidates.contrast_factor must be non-negative");
   if (border < 2) throw InputError("candidates.border must be at least 2");
-  if (!(noise_gradient_gain > 0)) throw InputError("candidates.noise_gradient_gain must be positive");
-  if (!(noise_value_gain > 0)) throw InputError("candidates.noise_value_gain must be positive");
 }
 
 namespace {
@@ -83,8 +81,7 @@ BlockThresholds BlockThresholdsOf(const Level0& image, const CandidateSelectorOp
   // The image's noise level (noise.h: the median over its blocks) sets the contrast floor: a
   // block's own estimate grows with its texture, which leaks into the kernel's response.
   std::vector<float> sigmas(noise.data(), noise.data() + noise.size());
-  t.contrast = static_cast<float>(options.contrast_factor * options.noise_value_gain) *
-               (sigmas.empty() ? 0.f : Median(sigmas));
+  t.contrast = options.contrast_factor * (sigmas.empty() ? 0.f : Median(sigmas));
   t.select = SmoothBlocks(select);
   // Each gradient component (a central difference, (I(x+1) - I(x-1)) / 2) of pure noise has
   // standard deviation sigma / sqrt(2); its magnitude exceeds k sigma / sqrt(2) with probability
@@ -92,8 +89,7 @@ BlockThresholds BlockThresholdsOf(const Level0& image, const CandidateSelectorOp
   t.floor = Image<float>(bw, bh);
   for (int by = 0; by < bh; ++by)
     for (int bx = 0; bx < bw; ++bx) {
-      t.floor(bx, by) = static_cast<float>(options.noise_factor * options.noise_gradient_gain) * t.noise_sigma(bx, by) /
-                        std::sqrt(2.f);
+      t.floor(bx, by) = options.noise_factor * t.noise_sigma(bx, by) / std::sqrt(2.f);
       t.select(bx, by) = std::max(t.select(bx, by), t.floor(bx, by));
     }
   return t;
@@ -116,7 +112,7 @@ std::vector<SelectedPixel> SelectWithStep(const Level0& image, const BlockThresh
     for (int cx = border; cx < w - border; cx += step) {
       // Level 0: the strongest pixel above its block threshold; else a weaker one (coarser detail).
       float best = 0.f, best_weak = 0.f;
-      Eigen::Vector2f best_px, weak_px;
+      Eigen::Vector2f best_px = Eigen::Vector2f::Zero(), weak_px = Eigen::Vector2f::Zero();
       for (int y = cy; y < std::min(cy + step, h - border); ++y) {
         for (int x = cx; x < std::min(cx + step, w - border); ++x) {
           if (mask && !(*mask)(x, y)) continue;

@@ -44,11 +44,6 @@ struct CandidateSelectorOptions {
   float contrast_factor = 3.f;      // Pattern contrast floor in noise sigmas (0: none) ...
   static constexpr float contrast_min_noise = 2.5f;  // ... set when the first frame's noise reaches this (System).
   int border = 4;                // Pixels left free at the image border.
-  // Gradient noise over sigma_estimated / sqrt(2): 1 for unsmoothed frames; the system sets
-  // SmoothedGradientNoiseGain (image/noise.h) when it smooths them.
-  double noise_gradient_gain = 1.0;
-  // Intensity noise over sigma_estimated: 1 unsmoothed; SmoothedValueNoiseGain when smoothed.
-  double noise_value_gain = 1.0;
 
   void Validate() const;
 };

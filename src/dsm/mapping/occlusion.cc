@@ -11,11 +11,6 @@ void OcclusionOptions::Validate() const {
   if (cell_px < 1) throw InputError("occlusion.cell_px must be positive");
   if (!(depth_ratio > 1.f)) throw InputError("occlusion.depth_ratio must be above 1");
   if (min_occluders < 1) throw InputError("occlusion.min_occluders must be positive");
-  if (span_px < 1) throw InputError("occlusion.span_px must be positive");
-  if (!(candidate_interval >= 0.f && candidate_interval < 1.f))
-    throw InputError("occlusion.candidate_interval must be within [0, 1)");
-  if (texture_check != "none" && texture_check != "between" && texture_check != "all")
-    throw InputError("occlusion.texture_check must be none, between or all (got '" + texture_check + "')");
 }
 
 OcclusionGrid::OcclusionGrid(int width, int height, const OcclusionOptions& options)
@@ -45,30 +40,6 @@ bool OcclusionGrid::IsOccluded(const Eigen::Vector2f& pixel, float idepth) const
     for (int x = std::max(0, cx - 1); x <= std::min(cols_ - 1, cx + 1); ++x)
       for (float rho : cells_[static_cast<size_t>(y) * cols_ + x]) count += rho > nearer;
   return count >= options_.min_occluders;
-}
-
-bool OcclusionGrid::IsBetween(const Eigen::Vector2f& pixel, float idepth) const {
-  const int c = Cell(pixel.x(), pixel.y());
-  if (c < 0 || !options_.enabled) return false;
-  const int cx = c % cols_, cy = c / cols_, m = options_.min_occluders;
-  const float nearer = options_.depth_ratio * idepth;
-  return (CountAlong(cx, cy, -1, 0, nearer, m) >= m && CountAlong(cx, cy, 1, 0, nearer, m) >= m) ||
-         (CountAlong(cx, cy, 0, -1, nearer, m) >= m && CountAlong(cx, cy, 0, 1, nearer, m) >= m);
-}
-
-int OcclusionGrid::CountAlong(int cx, int cy, int dx, int dy, float nearer, int enough) const {
-  const int steps = options_.span_px / options_.cell_px;
-  int count = 0;
-  for (int s = 1; s <= steps; ++s) {
-    const int x0 = cx + s * dx, y0 = cy + s * dy;
-    for (int k = -1; k <= 1; ++k) {
-      const int x = x0 + k * dy, y = y0 + k * dx;  // Across the direction of the scan.
-      if (x < 0 || y < 0 || x >= cols_ || y >= rows_) continue;
-      for (float rho : cells_[static_cast<size_t>(y) * cols_ + x]) count += rho > nearer;
-    }
-    if (count >= enough) break;
-  }
-  return count;
 }
 
 }  // namespace dsm

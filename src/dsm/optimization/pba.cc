@@ -16,7 +16,6 @@ void PbaOptions::Validate() const {
   if (!(initial_lambda > 0)) throw InputError("pba.initial_lambda must be positive");
   if (max_outside_observations < 0) throw InputError("pba.max_outside_observations must be non-negative");
   if (max_outside_keyframes < 0) throw InputError("pba.max_outside_keyframes must be non-negative");
-  if (outside_observations_per_point < 0) throw InputError("pba.outside_observations_per_point must be non-negative");
   if (min_camera_observations < 0) throw InputError("pba.min_camera_observations must be non-negative");
   if (!(min_link_ratio >= 0 && min_link_ratio <= 1)) throw InputError("pba.min_link_ratio must be within 0..1");
   if (!(max_sigma_ratio == 0 || max_sigma_ratio >= 1)) throw InputError("pba.max_sigma_ratio must be 0 or at least 1");

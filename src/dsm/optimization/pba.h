@@ -45,16 +45,13 @@ struct PbaOptions {
   // Keyframes outside the window in the problem (fixed): the most observed ones; 0: all. Bounds
   // the problem as the map grows (16 or 24 cost accuracy on the synthetic orbit and forward).
   int max_outside_keyframes = 32;
-  // Per point of any active keyframe: at most the newest this many observations outside the
-  // window (0: all). Bounds the outside observations by a multiple of the active points.
-  int outside_observations_per_point = 0;
   RobustOptions robust;
   static constexpr double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
   static constexpr double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
   // With texture_loss.max_variance_ratio > 0 (off by default), an observation whose target shows
-  // no trace of the host's texture (texture_loss.h) at the finest level takes no part there:
-  // left out of the error models' fit, removed after the PBA, and with texture_loss.in_energy
-  // given weight 0 as well.
+  // no trace of the host's texture (texture_loss.h) at the finest level is left out of the error
+  // models' fit and removed after the PBA; it stays in the energy, so that a pattern that misses
+  // its texture while the point's depth converges is still pulled into place.
   TextureLossOptions texture_loss;
   // A keyframe's fitted scale sigma is at most this many times the median over the problem's
   // keyframes (0: unbounded; see RunPba).

@@ -189,10 +189,6 @@ double Problem::LinearizePoint(size_t i, std::vector<PairAccumulator>* pairs, No
     for (int k = 0; k < kPatternSize; ++k) weighted[k] = sqrt_w[k] * res.r[k];
     Remember(res, &o);
     o.texture_lost[trial] = TextureLostAtLevel(ps, res);
-    if (o.texture_lost[trial] && options_.texture_loss.in_energy) {
-      o.enabled[trial] = false;
-      continue;
-    }
     int bad = 0;
     const double e = PixelEnergy(res.r, sqrt_w, model, &bad);
     o.enabled[trial] = bad <= options_.skip_outlier_ratio * kPatternSize;

@@ -30,10 +30,9 @@ PbaSelection SelectPbaProblem(const Map& map, const std::vector<int>& active, co
         const Point& p = map.point(pid);
         if (p.removed) continue;
         int skip = 0;
-        const int cap = is_held[s.cams[c]] ? options.max_outside_observations : options.outside_observations_per_point;
-        if (is_held[s.cams[c]] || cap > 0) {
+        if (is_held[s.cams[c]]) {
           for (const Observation& o : p.observations) skip += !o.outlier && !is_active[o.target];
-          skip -= cap;  // The oldest ones are left out.
+          skip -= options.max_outside_observations;  // The oldest ones are left out.
         }
         kept.clear();
         for (const Observation& o : p.observations)

@@ -10,7 +10,7 @@
 // (Keyframe::most_pba_links, which RunPba raises to `links` for the free cameras). A point of a held
 // keyframe keeps its observations in active keyframes and the newest `max_outside_observations`
 // outside them (they join two fixed poses and constrain only its depth); a point of another
-// active keyframe keeps the newest `outside_observations_per_point` outside ones (0: all).
+// active keyframe keeps all its observations.
 #pragma once
 
 #include <vector>

@@ -32,11 +32,6 @@ struct TextureLossOptions {
   double max_variance_ratio = 0.0;   // 0: the test is off; kTextureLossRatio to use it.
   double min_host_variance = 25.0;   // Grey levels^2.
   double max_depth_ratio = 1.25;     // Target depth over host depth.
-  // Where the bundle adjustment uses the test (pba.h): true, an observation whose texture is lost
-  // takes no part in the energy either; false, only in the error models' fit and the removal
-  // after the adjustment, so that a pattern that misses its texture while the point's depth
-  // converges is still pulled into place.
-  bool in_energy = true;
 
   void Validate() const;  // Throws InputError naming the option.
 };

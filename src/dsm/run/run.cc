@@ -501,7 +501,6 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       {"initialized_at_frame", s.initialized_at_frame},
       {"initialization", s.initialization},
       {"image_noise_sigma", s.image_noise_sigma},
-      {"smoothing_sigma", s.smoothing_sigma},
       {"contrast_floor", s.contrast_floor},
       {"interpolation", s.interpolation},
       {"texture_loss", s.texture_loss},

@@ -22,7 +22,6 @@ void RelocalisationOptions::Validate() const {
 
 bool SystemOptions::YoungMapBaDue(int keyframes) const {
   if (mode != MapMode::kFull || keyframes < young_map_ba_first || keyframes > young_map_ba_last) return false;
-  if (young_map_ba_step > 0) return (keyframes - young_map_ba_first) % young_map_ba_step == 0;
   for (int n = young_map_ba_first; n <= keyframes; n *= 2)
     if (n == keyframes) return true;
   return false;
@@ -31,13 +30,11 @@ bool SystemOptions::YoungMapBaDue(int keyframes) const {
 void SystemOptions::Validate() const {
   if (pyramid_levels < 1 || pyramid_levels > 6) throw InputError("pyramid_levels must be within 1..6");
   if (max_initialization_frames < 5) throw InputError("max_initialization_frames must be at least 5");
-  if (!(smoothing_sigma <= 3.0)) throw InputError("system.smoothing_sigma must be at most 3 (negative: automatic)");
   if (interpolation != "auto" && interpolation != "bilinear" && interpolation != "bspline")
     throw InputError("system.interpolation must be auto, bilinear or bspline, not '" + interpolation + "'");
   if (!(texture_loss_min_noise >= 0.0)) throw InputError("system.texture_loss_min_noise must be non-negative");
   if (young_map_ba_first < 2) throw InputError("system.young_map_ba_first must be at least 2");
   if (young_map_ba_last < 0) throw InputError("system.young_map_ba_last must be non-negative (0: none)");
-  if (young_map_ba_step < 0) throw InputError("system.young_map_ba_step must be non-negative (0: doubling)");
   if (loop_ba_min_gap < 0) throw InputError("system.loop_ba_min_gap must be non-negative (0: none)");
   if (loop_ba_after_relocalisation < 0)
     throw InputError("system.loop_ba_after_relocalisation must be non-negative (0: never)");

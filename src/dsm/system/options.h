@@ -77,13 +77,6 @@ struct SystemOptions {
   // A keyframe's pyramid is released when no mapping step used it in the last this many keyframes
   // (the compact image stays; Map::LoadPyramids rebuilds it).
   static constexpr int keep_pyramid_keyframes = 2;
-  // Gaussian smoothing of every frame before anything else (image/noise.h), sigma in pixels; 0:
-  // none (the default). Negative: automatic, decided on the first frame: smoothing_auto_sigma when
-  // its noise level reaches smoothing_noise_threshold grey levels (render noise), none below
-  // (camera images).
-  double smoothing_sigma = 0.0;
-  static constexpr double smoothing_noise_threshold = 2.5;
-  static constexpr double smoothing_auto_sigma = 0.7;
   // How residuals sample images (photometric/residual.h): "bilinear", "bspline", or "auto" (the
   // default): the cubic B-spline when the first frame's noise level reaches bspline_min_noise grey
   // levels, bilinear below. Bilinear interpolation of independent pixel noise leaves a one-pixel
@@ -91,10 +84,9 @@ struct SystemOptions {
   // the B-spline's blur and cost buy nothing.
   std::string interpolation = "auto";
   static constexpr double bspline_min_noise = 2.5;
-  // The bundle adjustment's texture-loss test (texture_loss.h) in --mode dsm, when
-  // pba.texture_loss_ratio is 0 (not set) and the first frame's noise level reaches this many grey
-  // levels (0: never): at kTextureLossRatio, judging the error models' fit and the removal after
-  // the adjustment only (texture_loss.in_energy false). On noisy images a point seen through a
+  // The bundle adjustment's texture-loss test (texture_loss.h) in --mode dsm, when the first
+  // frame's noise level reaches this many grey levels (0: never): at kTextureLossRatio, judging
+  // the error models' fit and the removal after the adjustment. On noisy images a point seen through a
   // plain near surface widens its target's error model the most. Not in --mode sw, which has no
   // persistent map to re-observe a removed observation's point from.
   double texture_loss_min_noise = 2.5;
@@ -108,7 +100,6 @@ struct SystemOptions {
   // keyframes) independent of the map's size.
   int young_map_ba_first = 10;
   int young_map_ba_last = 40;
-  int young_map_ba_step = 0;  // > 0: every this many keyframes from young_map_ba_first instead of doubling.
   // A bundle adjustment of the loop when the camera comes back (--mode dsm): when the new
   // keyframe's covisible keyframes reach at least loop_ba_min_gap keyframes back, the keyframes
   // after the oldest of them are adjusted (the newest loop_ba_max_keyframes at most), the

@@ -36,17 +36,6 @@ TEST(SystemOptions, YoungMapBundleAdjustmentsDoubleUpToTheLast) {
   EXPECT_FALSE(options.YoungMapBaDue(5));
 }
 
-// With a step, every step keyframes from the first up to the last.
-TEST(SystemOptions, YoungMapBundleAdjustmentsInStepsUpToTheLast) {
-  SystemOptions options;
-  options.young_map_ba_first = 10;
-  options.young_map_ba_step = 10;
-  options.young_map_ba_last = 50;
-  EXPECT_EQ(DueKeyframes(options), (std::vector<int>{10, 20, 30, 40, 50}));
-  options.young_map_ba_step = 7;
-  EXPECT_EQ(DueKeyframes(options), (std::vector<int>{10, 17, 24, 31, 38, 45}));
-}
-
 TEST(SystemOptions, RejectsAYoungMapScheduleThatNeverGrows) {
   SystemOptions options;
   options.young_map_ba_first = 1;
@@ -56,8 +45,6 @@ TEST(SystemOptions, RejectsAYoungMapScheduleThatNeverGrows) {
   EXPECT_THROW(options.Validate(), InputError);
   options.young_map_ba_last = 0;
   EXPECT_NO_THROW(options.Validate());
-  options.young_map_ba_step = -1;
-  EXPECT_THROW(options.Validate(), InputError);
 }
 
 TEST(SystemOptions, RejectsANegativeNoiseLevelForTheTextureLossTest) {

@@ -68,14 +68,6 @@ System::~System() = default;
 
 void System::ChooseNoiseHandling(const Image<float>& first) {
   stats_.image_noise_sigma = EstimateNoiseSigma(first);
-  if (options_.smoothing_sigma >= 0.0) {
-    stats_.smoothing_sigma = options_.smoothing_sigma;
-  } else {
-    const bool noisy = stats_.image_noise_sigma >= options_.smoothing_noise_threshold;
-    stats_.smoothing_sigma = noisy ? options_.smoothing_auto_sigma : 0.0;
-  }
-  options_.candidates.noise_gradient_gain = SmoothedGradientNoiseGain(static_cast<float>(stats_.smoothing_sigma));
-  options_.candidates.noise_value_gain = SmoothedValueNoiseGain(static_cast<float>(stats_.smoothing_sigma));
   if (stats_.image_noise_sigma < options_.candidates.contrast_min_noise) options_.candidates.contrast_factor = 0.f;
   stats_.contrast_floor = options_.candidates.contrast_factor > 0.f;
   const bool bspline = options_.interpolation == "bspline" ||
@@ -83,31 +75,21 @@ void System::ChooseNoiseHandling(const Image<float>& first) {
   map_.set_interpolation(bspline ? Interpolation::kBSpline : Interpolation::kBilinear);
   stats_.interpolation = bspline ? "bspline" : "bilinear";
   TextureLossOptions& texture = options_.pba.texture_loss;
-  if (texture.max_variance_ratio == 0.0 && options_.mode == MapMode::kFull && options_.texture_loss_min_noise > 0.0 &&
-      stats_.image_noise_sigma >= options_.texture_loss_min_noise) {
+  if (options_.mode == MapMode::kFull && options_.texture_loss_min_noise > 0.0 &&
+      stats_.image_noise_sigma >= options_.texture_loss_min_noise)
     texture.max_variance_ratio = kTextureLossRatio;
-    texture.in_energy = false;
-  }
   stats_.texture_loss = texture.max_variance_ratio > 0.0;
 }
 
-const Image<float>& System::Smoothed(const Image<float>& input, Image<float>* storage) const {
-  if (stats_.smoothing_sigma <= 0.0) return input;
-  *storage = GaussianSmooth(input, static_cast<float>(stats_.smoothing_sigma));
-  return *storage;
-}
-
-FrameReport System::Process(int index, int64_t t_ns, const Image<float>& input, double exposure_ms,
+FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
                             std::optional<std::chrono::steady_clock::time_point> wait_until) {
-  DSM_CHECK(input.width() == camera_.width && input.height() == camera_.height, "frame size differs from the camera");
+  DSM_CHECK(image.width() == camera_.width && image.height() == camera_.height, "frame size differs from the camera");
   DSM_CHECK(!suspended_ || state_ == TrackingState::kLost || state_ == TrackingState::kConfirming,
             "a suspended map is lost");
   NoteTimestamp(index, t_ns);
   if (!suspended_) ++stats_.frames;  // A suspended map's frame counts once it is tracked.
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
-  if (stats_.smoothing_sigma < 0.0) ChooseNoiseHandling(input);
-  Image<float> smoothed;
-  const Image<float>& image = Smoothed(input, &smoothed);
+  if (stats_.image_noise_sigma < 0.0) ChooseNoiseHandling(image);
   if (state_ == TrackingState::kInitializing) return Initialize(index, t_ns, image, exposure);
 
   // The paper's tracking thread: the frame is aligned with the newest keyframe the mapping side

@@ -78,7 +78,6 @@ struct SystemStats {
   int initialized_at_frame = -1;
   std::string initialization;  // How the map started: "two-view" or "planar" (initializer.h).
   double image_noise_sigma = -1.0;  // Noise level of the first frame (image/noise.h), grey levels.
-  double smoothing_sigma = -1.0;    // Gaussian smoothing applied to every frame, pixels (0: none).
   bool contrast_floor = false;      // Candidates kept off patterns at the noise's contrast.
   std::string interpolation = "bilinear";  // How the residuals sample images: bilinear | bspline.
   bool texture_loss = false;  // The bundle adjustment's texture-loss test is on (options.h).
@@ -153,8 +152,7 @@ class System {
   System(const PinholeCamera& camera, const SystemOptions& options);
   ~System();
 
-  // `image`: undistorted (and photometrically corrected) frame of the camera's size; smoothed first
-  // as options.smoothing_sigma says (decided on the first frame).
+  // `image`: undistorted (and photometrically corrected) frame of the camera's size.
   // `exposure_ms`: 0 when unknown. Returns once the frame is tracked (and, sequential, mapped).
   // `index` and `t_ns` increase from frame to frame (InputError otherwise, nothing changed).
   // `wait_until` (threaded, SystemOptions::wait_for_mapping false): while a keyframe is still being
@@ -319,9 +317,9 @@ class System {
   // reference; the wait is left out of f's tracking time. True when the reference changed.
   bool WaitForMapping(FrameWork* f, std::optional<std::chrono::steady_clock::time_point> until);
 
-  // On the first frame: its noise level, the smoothing of every frame (options.smoothing_sigma),
-  // the candidates' noise gains that go with it, and whether their contrast floor applies
-  // (candidate_selector.h: from candidates.contrast_min_noise on).
+  // On the first frame: its noise level, and from it whether the candidates' contrast floor applies
+  // (candidate_selector.h: from candidates.contrast_min_noise on), how residuals sample images and
+  // whether the texture-loss test is on.
   void ChooseNoiseHandling(const Image<float>& first);
   FrameReport Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure);
   void StartMap(const struct InitResult& init);
@@ -335,8 +333,6 @@ class System {
   // Frames from the last trusted frame to `index` (at least 1): index steps, or the frame
   // intervals between their timestamps when more (a gap in the recording).
   int FramesSinceTrusted(int index) const;
-  // The frame as tracking sees it: `input`, or it smoothed into `storage` (stats_.smoothing_sigma).
-  const Image<float>& Smoothed(const Image<float>& input, Image<float>* storage) const;
   // Process: frame `index` at t_ns is the current one; the frame interval follows the recording.
   // Throws InputError, changing nothing, when index or t_ns does not come after the last frame's.
   void NoteTimestamp(int index, int64_t t_ns);
@@ -486,14 +482,6 @@ class System {
   // Covisible keyframes and their points' re-observations in `newest`, except hidden ones.
   void SelectCovisible(int newest, OcclusionGrid* occlusion);
   void AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const;
-  // The window's candidates whose depth has converged (occlusion.candidate_interval), projected into
-  // keyframe `target`: a near object that came into view has candidates well before its points are
-  // activated, and they hide what lies behind it.
-  void AddCandidatesToOcclusionGrid(int target, OcclusionGrid* grid) const;
-  // Is point `p`, projected to `px` with inverse depth `rho` in keyframe `kf`, hidden there by a
-  // nearer part of the map: nearer points around it, or (occlusion.texture_check) its texture gone
-  // there, anywhere or between nearer points (a plain near surface; occlusion.h)?
-  bool HiddenIn(const Point& p, int kf, const Eigen::Vector2f& px, float rho, const OcclusionGrid& grid) const;
 
   PinholeCamera camera_;
   SystemOptions options_;

@@ -74,13 +74,12 @@ void System::MapNewKeyframe(int kf) {
   // map hides them there (the PBA verifies the rest).
   OcclusionGrid occlusion(camera_.width, camera_.height, options_.occlusion);
   AddToOcclusionGrid(window_, kf, &occlusion);
-  if (options_.occlusion.candidate_interval > 0.f) AddCandidatesToOcclusionGrid(kf, &occlusion);
   for (int h : window_)
     for (int pid : map_.keyframe(h).points) {
       Point& p = map_.point(pid);
       Eigen::Vector2f px;
       float rho;
-      if (!p.removed && ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho) && !HiddenIn(p, kf, px, rho, occlusion))
+      if (!p.removed && ProjectPoint(map_, camera_, p, kf, 4.f, &px, &rho) && !occlusion.IsOccluded(px, rho))
         p.observations.push_back({kf, false});
     }
   window_.push_back(kf);
@@ -270,37 +269,6 @@ void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, O
     }
 }
 
-void System::AddCandidatesToOcclusionGrid(int target, OcclusionGrid* grid) const {
-  // A candidate with inverse depth rho (the middle of its interval [rho_min, rho_max]) counts,
-  // projected like a point, once
-  //   rho_max - rho_min <= candidate_interval * rho   (its epipolar search has pinned it down).
-  const float share = options_.occlusion.candidate_interval;
-  for (const auto& [host, candidates] : candidates_) {
-    Point probe;
-    probe.host = host;
-    for (const Candidate& c : candidates) {
-      if (c.removed || c.status != TraceStatus::kGood || c.idepth_max < 0.f) continue;
-      probe.idepth = c.Idepth();
-      if (!(probe.idepth > 0.f) || c.idepth_max - c.idepth_min > share * probe.idepth) continue;
-      probe.pixel = c.pixel;
-      Eigen::Vector2f px;
-      float rho;
-      if (ProjectPoint(map_, camera_, probe, target, 0.f, &px, &rho)) grid->Add(px, rho);
-    }
-  }
-}
-
-bool System::HiddenIn(const Point& p, int kf, const Eigen::Vector2f& px, float rho, const OcclusionGrid& grid) const {
-  if (grid.IsOccluded(px, rho)) return true;
-  const std::string& check = options_.occlusion.texture_check;
-  if (check == "none" || (check == "between" && !grid.IsBetween(px, rho))) return false;
-  // The bundle adjustment's texture-loss test (its host-variance floor and depth bound), at
-  // kTextureLossRatio whether or not the adjustment uses it.
-  TextureLossOptions texture = options_.pba.texture_loss;
-  texture.max_variance_ratio = kTextureLossRatio;
-  return TextureGone(map_, camera_, p, kf, texture);
-}
-
 void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
   covisible_.clear();
   if (options_.mode != MapMode::kFull) return;
@@ -323,7 +291,7 @@ void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
       float rho;
       if (p.removed || p.FindObservation(newest) != nullptr || !ProjectPoint(map_, camera_, p, newest, 4.f, &px, &rho) ||
           ViewAngleDeg(map_, camera_, p, newest) > options_.window.max_view_angle_deg ||
-          HiddenIn(p, newest, px, rho, *occlusion))
+          occlusion->IsOccluded(px, rho))
         continue;
       p.observations.push_back({newest, false});
       ++log.reobservations;

@@ -19,8 +19,7 @@ bool System::WaitSettled(std::chrono::steady_clock::time_point until) const {
 
 void System::Preview(int index, const Image<float>& input, double exposure_ms) const {
   if (!reference_ || state_ == TrackingState::kLost || !pose_listener_) return;
-  Image<float> smoothed;
-  const ImagePyramid pyramid(Smoothed(input, &smoothed), options_.pyramid_levels, /*gradients=*/false);
+  const ImagePyramid pyramid(input, options_.pyramid_levels, /*gradients=*/false);
   const TrackResult result = TrackFrame(index, pyramid, exposure_ms > 0.0 ? exposure_ms : 1.0);
   if (result.ok) pose_listener_(index, WorldFromCam(result.frame_from_keyframe));
 }

@@ -8,7 +8,6 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
-#include "dsm/tracking/two_view.h"
 #include "dsm/util/check.h"
 #include "dsm/util/median.h"
 
@@ -72,18 +71,6 @@ void Initializer::TrackCorners(const Image<uint8_t>& gray) {
   std::vector<cv::Point2f> back_pts;
   std::vector<uchar> back_status;
   cv::calcOpticalFlowPyrLK(Wrap(gray), Wrap(previous_), next_pts, back_pts, back_status, error, cv::Size(21, 21), 3, stop);
-  // Each step of the chain adds its own error (a fraction of a pixel) and the chain sums them. So
-  // each corner is then aligned once more from the reference image itself, starting at the chained
-  // position; a corner that lands more than kMaxShiftPx away keeps the chained position.
-  constexpr double kMaxShiftPx = 2.0;
-  std::vector<cv::Point2f> ref_pts, direct_pts = next_pts;
-  std::vector<uchar> direct_status(ids.size(), 0);
-  if (options_.track_from_reference) {
-    for (int id : ids) ref_pts.emplace_back(reference_corners_[id].x(), reference_corners_[id].y());
-    cv::calcOpticalFlowPyrLK(Wrap(reference_), Wrap(gray), ref_pts, direct_pts, direct_status, error, cv::Size(21, 21), 1,
-                             cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 0.001),
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
-  }
   const auto inside = [&](const cv::Point2f& p) { return p.x >= 0 && p.y >= 0 && p.x < gray.width() - 1 && p.y < gray.height() - 1; };
   for (size_t k = 0; k < ids.size(); ++k) {
     const bool consistent = back_status[k] && std::hypot(back_pts[k].x - prev_pts[k].x, back_pts[k].y - prev_pts[k].y) < 1.0;
@@ -91,10 +78,7 @@ void Initializer::TrackCorners(const Image<uint8_t>& gray) {
       alive_[ids[k]] = false;
       continue;
     }
-    const bool direct = direct_status[k] && inside(direct_pts[k]) &&
-                        std::hypot(direct_pts[k].x - next_pts[k].x, direct_pts[k].y - next_pts[k].y) < kMaxShiftPx;
-    const cv::Point2f& p = direct ? direct_pts[k] : next_pts[k];
-    current_corners_[ids[k]] = Eigen::Vector2f(p.x, p.y);
+    current_corners_[ids[k]] = Eigen::Vector2f(next_pts[k].x, next_pts[k].y);
   }
 }
 
@@ -149,20 +133,6 @@ InitResult Initializer::AddFrame(const Image<float>& image) {
   for (int r = 0; r < 3; ++r) {
     te(r) = t.at<double>(r);
     for (int c = 0; c < 3; ++c) Re(r, c) = R.at<double>(r, c);
-  }
-  if (options_.refine_motion) {
-    TwoViewProblem problem;
-    problem.fx = camera_.fx;
-    problem.fy = camera_.fy;
-    problem.loss_scale_px = options_.refine_loss_px;
-    for (size_t k = 0; k < ref.size(); ++k) {
-      if (!pose_mask.at<uchar>(static_cast<int>(k))) continue;
-      problem.reference.push_back(camera_.Unproject(ref[k].x, ref[k].y).hnormalized());
-      problem.current.push_back(camera_.Unproject(cur[k].x, cur[k].y).hnormalized());
-    }
-    const TwoViewResult refined = RefineTwoView(problem, Re, te);
-    Re = refined.rotation;
-    te = refined.translation;
   }
   const SE3d cur_from_ref(SO3d(Re), te);  // |t| = 1
   result.current_from_reference = cur_from_ref;

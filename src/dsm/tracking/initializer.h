@@ -1,11 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Monocular map initialisation from the first frames.
 //
-// Corners of the reference frame are tracked frame to frame (pyramidal KLT); optionally
-// (`track_from_reference`) each is then aligned once more directly from the reference image, so the
-// tracks do not sum the errors of a chain of small steps. For each new frame the relative motion is
-// estimated from the tracks with an essential matrix (RANSAC), optionally (`refine_motion`) refined
-// on all its inliers (two_view.h), and checked against a homography: a motion is accepted only when
+// Corners of the reference frame are tracked frame to frame (pyramidal KLT). For each new frame the
+// relative motion is estimated from the tracks with an essential matrix (RANSAC) and checked
+// against a homography: a motion is accepted only when
 //   * enough tracks are inliers of the essential matrix and in front of both cameras,
 //   * the median triangulation angle (parallax) exceeds `min_parallax_deg`,
 //   * the homography does not explain the tracks nearly as well (pure rotation, or too little
@@ -45,12 +43,6 @@ struct InitializerOptions {
   static constexpr double max_homography_ratio = 0.9;  // Refuse when H inliers / E inliers exceed this.
   static constexpr int min_inliers = 60;
   static constexpr double ransac_threshold_px = 1.0;
-  // Both off by default: they make the starting motion several times more accurate (on the
-  // path-traced room, direction of motion 0.9-6.0 deg off instead of 0.5-11.5; on every synthetic
-  // scene), but the end-to-end accuracy over five renderings of the synthetic scenes was not better.
-  bool track_from_reference = false;  // Re-track each corner from the reference image every frame.
-  bool refine_motion = false;         // Refine RANSAC's motion on all inliers (two_view.h).
-  static constexpr double refine_loss_px = 1.0;        // Cauchy scale of that refinement.
   bool planar_start = true;           // Start from the homography when one plane fills the view.
   static constexpr double planar_min_homography_ratio = 0.98;
   static constexpr int planar_frame_gap = 4;
