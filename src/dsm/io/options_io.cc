@@ -90,8 +90,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
   Add(&e, "tracker.verified_reference", &o->tracker.verified_reference,
       "Track against the points whose observation in the keyframe the bundle adjustment verified (false: all that "
       "project).");
-  Add(&e, "tracker.max_alpha_frames", &o->tracker.max_alpha_frames,
-      "... per this many frames since the last trusted one.");
   Add(&e, "candidates.target_count", &o->candidates.target_count, "Candidate points selected per keyframe.");
   Add(&e, "candidates.threshold_margin", &o->candidates.threshold_margin,
       "A candidate's gradient exceeds its block's median by this, grey levels.");
@@ -99,7 +97,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "Gradient floor, in standard deviations of the image noise's gradient (0: none).");
   Add(&e, "candidates.contrast_factor", &o->candidates.contrast_factor,
       "Pattern contrast floor, in noise sigmas (0: none) ...");
-  Add(&e, "candidates.border", &o->candidates.border, "Pixels left free at the image border.");
   Add(&e, "activation.target_points", &o->activation.target_points, "Active points wanted in the window.");
   Add(&e, "keyframe.weight_parallax", &o->keyframe.weight_parallax,
       "Keyframe decision: weight of the parallax (translation over depth) ...");
@@ -115,7 +112,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
   Add(&e, "quality.max_rotation_deg", &o->quality.max_rotation_deg,
       "A frame that turned more than this from the last trusted one is lost, degrees per frame.");
   Add(&e, "quality.history", &o->quality.history, "Trusted frames the usual texture and residual are the medians of.");
-  Add(&e, "quality.min_history", &o->quality.min_history, "Values the usual levels need before they judge.");
   Add(&e, "relocalisation.candidates", &o->relocalisation.candidates,
       "Keyframes a lost frame is aligned with besides its reference.");
   Add(&e, "relocalisation.max_lost_frames", &o->relocalisation.max_lost_frames,
@@ -128,16 +124,12 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "N_t: temporal keyframes of the window, the newest included.");
   Add(&e, "window.covisible_keyframes", &o->window.covisible_keyframes,
       "N_c: covisible old keyframes of the window (--mode dsm).");
-  Add(&e, "window.depleted_distance_px", &o->window.depleted_distance_px,
-      "A pixel this far from every projected window point is depleted, pixels.");
   Add(&e, "window.optimize_covisible_poses", &o->window.optimize_covisible_poses,
       "Optimise the covisible keyframes' poses, as the paper does (false: held, their points optimised).");
   Add(&e, "occlusion.enabled", &o->occlusion.enabled,
       "A point hidden behind nearer map points gets no observation in a new keyframe.");
-  Add(&e, "occlusion.cell_px", &o->occlusion.cell_px, "Cell of the occlusion grid, pixels.");
   Add(&e, "occlusion.depth_ratio", &o->occlusion.depth_ratio,
       "A point is nearer when its depth is below the other's over this ratio.");
-  Add(&e, "occlusion.min_occluders", &o->occlusion.min_occluders, "Nearer points around a projection that hide it.");
   Add(&e, "pba.levels", &o->pba.levels, "N_p: pyramid levels of the bundle adjustment, coarse to fine.");
   Add(&e, "pba.max_iterations", &o->pba.max_iterations, "LM iterations per level.");
   Add(&e, "pba.initial_lambda", &o->pba.initial_lambda, "LM's starting damping.");
@@ -153,10 +145,6 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "A keyframe's fitted error scale is bounded by this multiple of the problem's median (0: free).");
   Add(&e, "pba.refit_all_models", &o->pba.refit_all_models,
       "Refit every keyframe's error model in each adjustment (false: the newest only, as the original DSM).");
-  Add(&e, "pba.texture_min_host_variance", &o->pba.texture_loss.min_host_variance,
-      "The texture-loss test judges patterns of at least this variance in their host, grey levels squared.");
-  Add(&e, "pba.texture_max_depth_ratio", &o->pba.texture_loss.max_depth_ratio,
-      "... seen at most this much deeper in the target than in the host.");
   // The robust function applies to the bundle adjustment and the tracker alike.
   RobustOptions* pba = &o->pba.robust;
   RobustOptions* tracker = &o->tracker.robust;

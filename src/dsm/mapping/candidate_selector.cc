@@ -19,7 +19,6 @@ void CandidateSelectorOptions::Validate() const {
   if (!(threshold_margin >= 0)) throw InputError("candidates.threshold_margin must be non-negative");
   if (!(noise_factor >= 0)) throw InputError("candidates.noise_factor must be non-negative");
   if (!(contrast_factor >= 0)) throw InputError("candidates.contrast_factor must be non-negative");
-  if (border < 2) throw InputError("candidates.border must be at least 2");
 }
 
 namespace {

@@ -43,7 +43,7 @@ struct CandidateSelectorOptions {
   float noise_factor = 4.f;      // Gradient floor in standard deviations of the noise's gradient.
   float contrast_factor = 3.f;      // Pattern contrast floor in noise sigmas (0: none) ...
   static constexpr float contrast_min_noise = 2.5f;  // ... set when the first frame's noise reaches this (System).
-  int border = 4;                // Pixels left free at the image border.
+  static constexpr int border = 4;              // Pixels left free at the image border.
 
   void Validate() const;
 };

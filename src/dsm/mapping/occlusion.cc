@@ -8,9 +8,7 @@
 namespace dsm {
 
 void OcclusionOptions::Validate() const {
-  if (cell_px < 1) throw InputError("occlusion.cell_px must be positive");
   if (!(depth_ratio > 1.f)) throw InputError("occlusion.depth_ratio must be above 1");
-  if (min_occluders < 1) throw InputError("occlusion.min_occluders must be positive");
 }
 
 OcclusionGrid::OcclusionGrid(int width, int height, const OcclusionOptions& options)

@@ -21,9 +21,9 @@ namespace dsm {
 
 struct OcclusionOptions {
   bool enabled = true;  // false: every point that projects into the keyframe is observed there.
-  int cell_px = 8;
+  static constexpr int cell_px = 8;
   float depth_ratio = 1.3f;
-  int min_occluders = 2;
+  static constexpr int min_occluders = 2;
   void Validate() const;
 };
 

@@ -31,12 +31,6 @@ TEST(OcclusionOptions, BadValuesAreRefused) {
   OcclusionOptions o;
   o.depth_ratio = 1.f;
   EXPECT_THROW(o.Validate(), InputError);
-  o = {};
-  o.min_occluders = 0;
-  EXPECT_THROW(o.Validate(), InputError);
-  o = {};
-  o.cell_px = 0;
-  EXPECT_THROW(o.Validate(), InputError);
   EXPECT_NO_THROW(OcclusionOptions{}.Validate());
 }
 

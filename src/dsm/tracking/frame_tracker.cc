@@ -22,7 +22,6 @@ void TrackerOptions::Validate() const {
   for (int it : iterations)
     if (it < 1) throw InputError("tracker.iterations must be positive");
   if (!(min_usage > 0 && min_usage < 1)) throw InputError("tracker.min_usage must be in (0, 1)");
-  if (max_alpha_frames < 1) throw InputError("tracker.max_alpha_frames must be at least 1");
   robust.Validate();
 }
 

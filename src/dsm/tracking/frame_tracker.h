@@ -61,7 +61,7 @@ struct TrackerOptions {
   // Frames of that change at most, however many frames apart the guess is: a few dropped or
   // lost frames are no time for the contrast to halve, but at 0.4 per frame they would be enough
   // for the flat prediction's alpha (-1 ... -3) to pass.
-  int max_alpha_frames = 2;
+  static constexpr int max_alpha_frames = 2;
 
   // The t-fit runs at every level of every frame: a smaller sample than the PBA's.
   static RobustOptions TrackerRobustDefaults() {

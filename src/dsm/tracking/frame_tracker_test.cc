@@ -92,11 +92,5 @@ TEST(FrameTracker, HoldsTheBrightnessWhenTheContrastCollapsesAfterAGap) {
   EXPECT_TRUE(r.brightness_held);
 }
 
-TEST(FrameTracker, RejectsAnAlphaAllowanceOfNoFrames) {
-  TrackerOptions options;
-  options.max_alpha_frames = 0;
-  EXPECT_THROW(FrameTracker{options}, InputError);
-}
-
 }  // namespace
 }  // namespace dsm
