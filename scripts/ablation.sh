@@ -23,15 +23,11 @@
 #            no-contrast-floor (candidates also where the 8-pixel pattern's contrast is at the
 #            noise's level), bilinear (residuals sample noisy images bilinearly, not by the
 #            B-spline), no-texture-loss (observations whose target shows no trace of the point's
-#            texture stay in the error models' fits on noisy images too), two-view (the initialiser
-#            re-tracks its corners from the reference image and refines RANSAC's motion on all
-#            inliers), free-sigma (each keyframe's error model fitted without the bound on its
-#            scale), newest-model (only the newest keyframe's error model is fitted, to the
+#            texture stay in the error models' fits on noisy images too), free-sigma (each keyframe's
+#            error model fitted without the bound on its scale), newest-model (only the newest keyframe's error model is fitted, to the
 #            residuals of points hosted by free keyframes, as the original DSM:
 #            pba.refit_all_models false), no-young-ba (without the whole young map's bundle
-#            adjustments at 10, 20 and 40 keyframes: system.young_map_ba_last 0), outside-per-point
-#            (each point's newest observation outside the window alone enters the problem:
-#            pba.outside_observations_per_point 1), loop-ba (the keyframes of a loop adjusted when
+#            adjustments at 10, 20 and 40 keyframes: system.young_map_ba_last 0), loop-ba (the keyframes of a loop adjusted when
 #            the covisible keyframes reach 20 keyframes back: system.loop_ba_min_gap 20)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
@@ -52,7 +48,7 @@ SECTION=ablation
 REUSE=0
 SEEDS="1"
 SEQUENCES="loop shake forward rotation exposure orbit pan euroc room"
-CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba no-occlusion all-reference no-noise-floor no-contrast-floor bilinear no-texture-loss two-view free-sigma newest-model no-young-ba outside-per-point loop-ba"
+CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba no-occlusion all-reference no-noise-floor no-contrast-floor bilinear no-texture-loss free-sigma newest-model no-young-ba loop-ba"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -81,11 +77,9 @@ printf 'candidates:\n  noise_factor: 0\n' > "$WORK/no-noise-floor.yaml"
 printf 'candidates:\n  contrast_factor: 0\n' > "$WORK/no-contrast-floor.yaml"
 printf 'system:\n  interpolation: bilinear\n' > "$WORK/bilinear.yaml"
 printf 'system:\n  texture_loss_min_noise: 0\n' > "$WORK/no-texture-loss.yaml"
-printf 'initializer:\n  track_from_reference: true\n  refine_motion: true\n' > "$WORK/two-view.yaml"
 printf 'pba:\n  max_sigma_ratio: 0\n' > "$WORK/free-sigma.yaml"
 printf 'pba:\n  refit_all_models: false\n' > "$WORK/newest-model.yaml"
 printf 'system:\n  young_map_ba_last: 0\n' > "$WORK/no-young-ba.yaml"
-printf 'pba:\n  outside_observations_per_point: 1\n' > "$WORK/outside-per-point.yaml"
 printf 'system:\n  loop_ba_min_gap: 20\n' > "$WORK/loop-ba.yaml"
 
 args_for() {
@@ -101,7 +95,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | no-texture-loss | two-view | free-sigma | newest-model | no-young-ba | outside-per-point | loop-ba) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | no-texture-loss | free-sigma | newest-model | no-young-ba | loop-ba) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac

@@ -154,38 +154,36 @@ TEST(Pba, ObservationsThatLostTheirTextureAreRemoved) {
     options.texture_loss = texture_loss;
     return RunPba(&w->map, w->seq.camera, {0, 1, 2, 3}, options);
   };
-  {
-    World w;
-    TextureLossOptions on;
-    on.max_variance_ratio = kTextureLossRatio;
-    const PbaSummary s = run(on, &w);
-    int behind = 0, behind_removed = 0, beside = 0, beside_removed = 0;
-    for (int i = 0; i < w.map.NumPoints(); ++i) {
-      const Point& p = w.map.point(i);
-      // Where the point lies in keyframe 3, at the true poses and depth.
-      const Eigen::Vector3d in_host = w.seq.camera.Unproject(p.pixel.x(), p.pixel.y()) / p.idepth;
-      const Eigen::Vector3d x = w.true_cam_from_world[3] * (w.true_cam_from_world[p.host].Inverse() * in_host);
-      const double u = w.seq.camera.Project(x).x();
-      const Observation* o = nullptr;
-      for (const Observation& ob : p.observations)
-        if (ob.target == 3) o = &ob;
-      if (!o || u < 4 || u > w.seq.camera.width - 4) continue;
-      if (u < w.seq.camera.width / 2 - 4) {
-        ++behind;
-        behind_removed += o->outlier;
-      } else if (u > w.seq.camera.width / 2 + 4) {
-        ++beside;
-        beside_removed += o->outlier;
-      }
+  World w;
+  TextureLossOptions on;
+  on.max_variance_ratio = kTextureLossRatio;
+  const PbaSummary s = run(on, &w);
+  int behind = 0, behind_removed = 0, beside = 0, beside_removed = 0;
+  for (int i = 0; i < w.map.NumPoints(); ++i) {
+    const Point& p = w.map.point(i);
+    // Where the point lies in keyframe 3, at the true poses and depth.
+    const Eigen::Vector3d in_host = w.seq.camera.Unproject(p.pixel.x(), p.pixel.y()) / p.idepth;
+    const Eigen::Vector3d x = w.true_cam_from_world[3] * (w.true_cam_from_world[p.host].Inverse() * in_host);
+    const double u = w.seq.camera.Project(x).x();
+    const Observation* o = nullptr;
+    for (const Observation& ob : p.observations)
+      if (ob.target == 3) o = &ob;
+    if (!o || u < 4 || u > w.seq.camera.width - 4) continue;
+    if (u < w.seq.camera.width / 2 - 4) {
+      ++behind;
+      behind_removed += o->outlier;
+    } else if (u > w.seq.camera.width / 2 + 4) {
+      ++beside;
+      beside_removed += o->outlier;
     }
-    ASSERT_GT(behind, 50);
-    ASSERT_GT(beside, 50);
-    // Left in the energy, a hidden observation can end where its texture is not judged lost.
-    EXPECT_GE(behind_removed, 0.99 * behind);
-    EXPECT_LT(beside_removed, 0.1 * beside);
-    EXPECT_GE(s.observations_texture_lost, 0.9 * behind);
-    EXPECT_LE(s.observations_texture_lost, s.observations_removed);
   }
+  ASSERT_GT(behind, 50);
+  ASSERT_GT(beside, 50);
+  // Left in the energy, a hidden observation can end where its texture is not judged lost.
+  EXPECT_GE(behind_removed, 0.99 * behind);
+  EXPECT_LT(beside_removed, 0.1 * beside);
+  EXPECT_GE(s.observations_texture_lost, 0.9 * behind);
+  EXPECT_LE(s.observations_texture_lost, s.observations_removed);
   World w_off;
   EXPECT_EQ(run(TextureLossOptions{}, &w_off).observations_texture_lost, 0);  // Off by default.
 }

@@ -8,8 +8,8 @@ namespace dsm {
 void TextureLossOptions::Validate() const {
   if (!(max_variance_ratio >= 0.0 && max_variance_ratio < 1.0))
     throw InputError("the texture-loss ratio must be within [0, 1)");
-  if (!(min_host_variance >= 0.0)) throw InputError("pba.texture_min_host_variance must be non-negative");
-  if (!(max_depth_ratio >= 1.0)) throw InputError("pba.texture_max_depth_ratio must be at least 1");
+  if (!(min_host_variance >= 0.0)) throw InputError("the texture-loss host variance must be non-negative");
+  if (!(max_depth_ratio >= 1.0)) throw InputError("the texture-loss depth ratio must be at least 1");
 }
 
 bool TextureLost(const HostPatch& host, const ObservationResiduals& res, float idepth,
