@@ -5,14 +5,16 @@
 #include <exception>
 #include <filesystem>
 #include <map>
+#include <string>
 
 #include "apps/commands.h"
 #include "dsm/util/check.h"
+#include "dsm/util/version.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"dsm: monocular visual SLAM by Direct Sparse Mapping"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "dsm 0.1.0");
+  app.set_version_flag("--version", std::string("dsm ") + dsm::kVersion);
   std::map<CLI::App*, dsm::cli::Command> commands;
   const auto add = [&](const char* name, const char* help, auto adder) {
     CLI::App* sub = app.add_subcommand(name, help);
@@ -26,6 +28,7 @@ int main(int argc, char** argv) {
   add("synth", "Render a synthetic sequence with exact ground truth", dsm::cli::AddSynth);
   add("report", "Rebuild report.html (map, trajectory, plots; one self-contained page) from a run's output folder",
       dsm::cli::AddReport);
+  add("map", "Map files (dsm run --save-map): `dsm map info FILE` describes one", dsm::cli::AddMap);
   add("damage", "Copy a EuRoC recording with bad frames spliced in (black, noise, a hand over the lens, damaged files)",
       dsm::cli::AddDamage);
   try {

@@ -31,6 +31,13 @@ class SO3 {
   SO3() : q_(Quat::Identity()) {}
   explicit SO3(const Quat& q) : q_(q.normalized()) {}
   explicit SO3(const Mat3& rotation) : q_(Quat(rotation).normalized()) {}
+  // q bit for bit, not normalised again: for a rotation read back as it was written (the caller
+  // has checked that |q| is 1 to rounding).
+  static SO3 FromUnitQuaternion(const Quat& q) {
+    SO3 r;
+    r.q_ = q;
+    return r;
+  }
 
   static SO3 Exp(const Vec3& w) {
     using std::cos;

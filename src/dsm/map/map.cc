@@ -31,6 +31,21 @@ int Map::AddPoint(Point point) {
   return points_.back().id;
 }
 
+Keyframe& Map::RestoreKeyframe(std::unique_ptr<Keyframe> keyframe) {
+  DSM_CHECK(keyframe->id == NumKeyframes() && keyframe->pyramid == nullptr && keyframe->points.empty(),
+            "a restored keyframe comes in id order, with its image and without points");
+  keyframe->pyramid_used = epoch_;
+  keyframes_.push_back(std::move(keyframe));
+  return *keyframes_.back();
+}
+
+void Map::RestorePoint(Point point) {
+  DSM_CHECK(point.id == NumPoints() && point.host >= 0 && point.host < NumKeyframes(),
+            "a restored point comes in id order, with a host in the map");
+  keyframes_[point.host]->points.push_back(point.id);
+  points_.push_back(std::move(point));
+}
+
 void Map::set_interpolation(Interpolation interpolation) {
   DSM_CHECK(points_.empty(), "the interpolation is set before the first point");
   interpolation_ = interpolation;

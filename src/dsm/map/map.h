@@ -101,6 +101,12 @@ class Map {
   Keyframe& AddKeyframe(std::unique_ptr<Keyframe> keyframe);
   // Adds a point hosted by `point.host`; returns its id.
   int AddPoint(Point point);
+  // A map read back as it was saved (mapfile/map_file.h): the keyframe keeps its id (the next one),
+  // its fixed-point image and pyramid_levels (its pyramid is rebuilt when used); the point keeps its
+  // id (the next one), patch and observations, and joins its host's list. The reader has checked
+  // ids, hosts and targets.
+  Keyframe& RestoreKeyframe(std::unique_ptr<Keyframe> keyframe);
+  void RestorePoint(Point point);
 
   Keyframe& keyframe(int id) { return *keyframes_[id]; }
   const Keyframe& keyframe(int id) const { return *keyframes_[id]; }

@@ -14,7 +14,9 @@
 
 #include "dsm/eval/metrics.h"
 #include "dsm/geometry/undistorter.h"
+#include "dsm/io/options_io.h"
 #include "dsm/io/trajectory_io.h"
+#include "dsm/mapfile/map_file.h"
 #include "dsm/report/report.h"
 #include "dsm/run/debug_writer.h"
 #include "dsm/run/frame_backlog.h"
@@ -27,6 +29,7 @@
 #include "dsm/run/realtime_wait.h"
 #include "dsm/system/system.h"
 #include "dsm/util/check.h"
+#include "dsm/util/version.h"
 
 namespace dsm {
 
@@ -293,6 +296,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   int posed_before_wait = 0;  // Frames told their pose before they waited for a keyframe being mapped.
   std::optional<std::chrono::steady_clock::time_point> first_posed;  // The current frame's.
   std::vector<std::optional<MapRun>> ended;  // By map id.
+  std::vector<std::optional<StoredMap>> stored;  // By map id, with --save-map.
+  if (!options.save_map.empty() && fs::is_directory(options.save_map)) {
+    throw InputError(options.save_map.string() + ": --save-map names a folder, not a file");
+  }
   MapSet map_set(
       [&] {
         auto system = std::make_unique<System>(undistorter.output(), system_options);
@@ -305,6 +312,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
         if (ended.size() <= static_cast<size_t>(id)) ended.resize(id + 1);
         ended[id] = CloseMap(system, map_dir(id), spans, options.global_ba, undistorter.output(), options.write_map,
                              options.truth_ba && dataset.HasGroundTruth() ? &dataset.ground_truth : nullptr);
+        if (!options.save_map.empty()) {
+          if (stored.size() <= static_cast<size_t>(id)) stored.resize(id + 1);
+          stored[id] = system.TakeStoredMap();
+        }
       });
   int dropped = 0;
   std::vector<int> skipped;  // Frames whose file could not be used.
@@ -581,9 +592,35 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   }
   summary.stats["maps"] = map_list;
   summary.stats["peak_rss_mb"] = PeakRssMb();
+  // The map file: every map that has keyframes, in the order the run made them. A failure to write
+  // it is reported after the other outputs are written.
+  std::string save_error;
+  if (!options.save_map.empty()) {
+    MapFile file;
+    file.created_by = std::string("dsm ") + kVersion;
+    file.camera = undistorter.output();
+    file.options = OptionsYaml(options.system);
+    int keyframes = 0, points = 0;
+    for (std::optional<StoredMap>& m : stored) {
+      if (!m || m->map.NumKeyframes() == 0) continue;
+      keyframes += m->map.NumKeyframes();
+      points += m->map.NumLivePoints();
+      file.maps.push_back(std::move(*m));
+    }
+    try {
+      WriteMapFile(options.save_map, file);
+      summary.stats["map_saved"] = {{"file", options.save_map.string()},
+                                    {"maps", file.maps.size()},
+                                    {"keyframes", keyframes},
+                                    {"points", points}};
+    } catch (const InputError& e) {
+      save_error = e.what();
+    }
+  }
   summary.stats["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   WriteJson(out_dir / "stats.json", summary.stats);
   if (options.write_report) WriteReport(out_dir);
+  if (!save_error.empty()) throw InputError(save_error + " (the run's other outputs are written)");
   return summary;
 }
 

@@ -6,6 +6,7 @@
 //   map.ply, keyframes.ply      the map's points and keyframe centres (map_export.h; not with
 //                               RunOptions::write_map false)
 //   report.html                 the run's report page (report/report.h; not with write_report false)
+//   RunOptions::save_map        the maps as a map file (mapfile/map_file.h), when set
 // A run that starts further maps (relocalisation kept failing) writes each into map_1/, map_2/, ...
 #pragma once
 
@@ -54,6 +55,8 @@ struct RunOptions {
   bool truth_ba = false;
   bool write_map = true;   // map.ply and keyframes.ply beside the trajectories.
   bool write_report = true;  // report.html (report/report.h) in the output folder.
+  // Non-empty: every map of the run is written to this map file (mapfile/map_file.h) at the end.
+  std::filesystem::path save_map;
   // >= 0: the live viewer (live_view.h) on this localhost port (0: a free one), its address printed.
   int view_port = -1;
   // With the live viewer: before the first frame, wait up to this long for a browser to connect,

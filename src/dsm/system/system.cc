@@ -380,6 +380,20 @@ void System::Finish() {
   MergeInitTracked();
 }
 
+StoredMap System::TakeStoredMap() {
+  Finish();
+  StoredMap stored;
+  stored.window = window_;
+  stored.covisible = covisible_;
+  for (const SystemStats::KeyframeLog& log : stats_.per_keyframe) stored.covisibility.push_back(log.covisible);
+  stored.covisibility.resize(std::min<size_t>(stored.covisibility.size(), map_.NumKeyframes()));
+  stored.map = std::move(map_);
+  map_ = Map();
+  window_.clear();
+  covisible_.clear();
+  return stored;
+}
+
 TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const {
   // Relative brightness guess: the last one, corrected for the change of exposure time.
   const double alpha_guess = track_.alpha + std::log(exposure / track_.exposure);

@@ -38,6 +38,7 @@
 #include "dsm/image/image.h"
 #include "dsm/image/signature.h"
 #include "dsm/map/map.h"
+#include "dsm/map/stored_map.h"
 #include "dsm/mapping/map_points.h"
 #include "dsm/system/options.h"
 #include "dsm/system/tracking_state.h"
@@ -189,6 +190,10 @@ class System {
   const SystemStats& stats() const { return stats_; }
   int NumMapPoints() const;
   const Map& map() const { return map_; }
+  // Finishes (Finish), then hands over the map with the window it ended with and each keyframe's
+  // covisible keyframes, for a map file: the System is left with an empty map and is not used
+  // again.
+  StoredMap TakeStoredMap();
   // The map's size as the tracking side last took it over (its tracking reference): keyframes
   // mapped and live points. For progress displays; safe between Process calls in every pace.
   struct MapSize {
