@@ -24,7 +24,7 @@ Command AddRun(CLI::App& app) {
     bool print_config = false;
     bool quiet = false, no_map = false, no_report = false, global_ba = false, truth_ba = false, sequential = false,
          realtime = false;
-    std::string save_map;
+    std::string save_map, load_map;
     GtArgs gt;
     VideoArgs video;
   };
@@ -63,6 +63,9 @@ Command AddRun(CLI::App& app) {
   app.add_option("--save-map", a->save_map,
                  "Write every map of the run (keyframes with images, points, observations) to this map file at the "
                  "end (`dsm map info FILE` describes it)");
+  app.add_option("--load-map", a->load_map,
+                 "Start in the maps of this map file (dsm run --save-map): relocalise in them where the camera "
+                 "starts in a known place, track and extend them in their frame and scale; a new map elsewhere");
   app.add_flag("--view", a->view,
                "Live viewer: serve the report page on localhost while the run goes on (map, camera and "
                "statistics pushed over a WebSocket); its address is printed");
@@ -120,6 +123,7 @@ Command AddRun(CLI::App& app) {
     options.write_map = !a->no_map;
     options.write_report = !a->no_report;
     options.save_map = a->save_map;
+    options.load_map = a->load_map;
     if (a->port < 0 || a->port > 65535) throw InputError("--port must be 0..65535");
     options.view_port = a->view ? a->port : -1;
     if (!(a->view_wait >= 0.0) || a->view_wait > 86400.0) throw InputError("--view-wait must be 0..86400 seconds");

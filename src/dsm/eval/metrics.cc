@@ -110,7 +110,9 @@ EvalResult Evaluate(const Trajectory& ref, const Trajectory& est, const EvalOpti
 
   EvalResult result;
   result.pairs = assoc.size();
-  if (options.align != Alignment::kNone) {
+  if (options.fixed_alignment) {
+    result.ref_from_est = *options.fixed_alignment;
+  } else if (options.align != Alignment::kNone) {
     result.ref_from_est = UmeyamaAlignment(est_pos, ref_pos, options.align == Alignment::kSim3);
   }
   // Aligned estimate: rotation R R_i, position s R t_i + t.
@@ -142,12 +144,50 @@ nlohmann::json ToJson(const ErrorStats& s) {
 }
 
 nlohmann::json ToJson(const EvalResult& r) {
-  nlohmann::json j = {{"ape", ToJson(r.ape)}, {"pairs", r.pairs}, {"scale", r.ref_from_est.Scale()}};
+  const Sim3d& S = r.ref_from_est;
+  const Eigen::Quaterniond& q = S.So3().Quaternion();
+  nlohmann::json j = {{"ape", ToJson(r.ape)},
+                      {"pairs", r.pairs},
+                      {"scale", S.Scale()},
+                      {"alignment",
+                       {{"rotation_xyzw", {q.x(), q.y(), q.z(), q.w()}},
+                        {"translation", {S.Translation().x(), S.Translation().y(), S.Translation().z()}},
+                        {"scale", S.Scale()}}}};
   if (r.rpe) {
     j["rpe"] = ToJson(*r.rpe);
     j["rpe"]["pairs"] = r.rpe->count;
   }
   return j;
+}
+
+Sim3d AlignmentFromJson(const nlohmann::json& j, const std::string& where) {
+  const nlohmann::json* a = nullptr;
+  if (j.is_object() && j.contains("alignment")) {
+    a = &j["alignment"];
+  } else if (j.is_object() && j.contains("keyframes") && j["keyframes"].is_object() &&
+             j["keyframes"].contains("alignment")) {
+    a = &j["keyframes"]["alignment"];
+  }
+  if (a == nullptr) throw InputError(where + ": no \"alignment\" (nor \"keyframes\".\"alignment\") in it");
+  const auto numbers = [&](const char* key, size_t n) {
+    if (!a->is_object() || !a->contains(key) || !(*a)[key].is_array() || (*a)[key].size() != n)
+      throw InputError(where + ": alignment." + key + " must be a list of " + std::to_string(n) + " numbers");
+    std::vector<double> v;
+    for (const nlohmann::json& x : (*a)[key]) {
+      if (!x.is_number() || !std::isfinite(x.get<double>()))
+        throw InputError(where + ": alignment." + key + " must hold finite numbers");
+      v.push_back(x.get<double>());
+    }
+    return v;
+  };
+  const std::vector<double> q = numbers("rotation_xyzw", 4), t = numbers("translation", 3);
+  if (!a->contains("scale") || !(*a)["scale"].is_number() || !((*a)["scale"].get<double>() > 0.0) ||
+      !std::isfinite((*a)["scale"].get<double>())) {
+    throw InputError(where + ": alignment.scale must be a positive number");
+  }
+  const Eigen::Quaterniond rotation(q[3], q[0], q[1], q[2]);
+  if (std::abs(rotation.norm() - 1.0) > 1e-6) throw InputError(where + ": alignment.rotation_xyzw is not a unit quaternion");
+  return Sim3d((*a)["scale"].get<double>(), SO3d(rotation), Eigen::Vector3d(t[0], t[1], t[2]));
 }
 
 }  // namespace dsm

@@ -38,6 +38,10 @@ struct EvalOptions {
   double max_dt_s = 0.01;     // Association tolerance (stamped trajectories).
   std::optional<double> rpe_delta;  // Computes RPE when set (> 0).
   RpeUnit rpe_unit = RpeUnit::kFrames;
+  // Set: this ref_from_est is applied instead of fitting one (`align` is then not used), e.g. the
+  // alignment of an earlier session's trajectory, to score a later session in the same frame and
+  // scale (a map loaded and extended: dsm run --load-map).
+  std::optional<Sim3d> fixed_alignment;
 
   void Validate() const;  // Throws InputError naming the option.
 };
@@ -60,8 +64,12 @@ EvalResult Evaluate(const Trajectory& ref, const Trajectory& est, const EvalOpti
 Trajectory ReferenceInEstimateFrame(const Trajectory& ref, const Trajectory& est, const EvalResult& result,
                                     const EvalOptions& options);
 
-// {"ape": {rmse, mean, median, std, min, max}, "pairs": N, "scale": s, "rpe": {..., "pairs"}}
+// {"ape": {rmse, mean, median, std, min, max}, "pairs": N, "scale": s, "rpe": {..., "pairs"},
+//  "alignment": {"rotation_xyzw": [4], "translation": [3], "scale": s}}   (ref_from_est)
 nlohmann::json ToJson(const EvalResult& result);
+// The ref_from_est of a ToJson result read back: from `j`'s "alignment", or from that of its
+// "keyframes" (a run's eval.json). InputError naming `where` when there is none or it is not one.
+Sim3d AlignmentFromJson(const nlohmann::json& j, const std::string& where);
 nlohmann::json ToJson(const ErrorStats& stats);
 
 }  // namespace dsm

@@ -16,6 +16,14 @@ struct StoredMap {
   // Per keyframe, the covisible keyframes of the window it was mapped in (fewer lists than
   // keyframes: the rest are empty).
   std::vector<std::vector<int>> covisibility;
+  // The image noise the map's frames had (image/noise.h, grey levels): it chose how residuals
+  // sample images and which candidates are kept (System::ChooseNoiseHandling), and a map taken up
+  // again keeps that choice.
+  double image_noise_sigma = 0.0;
+  // The tracking-quality levels at the map's end (tracking/tracking_quality.h: median residual
+  // and texture of the last trusted frames; 0: none), which judge the first frames tracked in it
+  // again.
+  double residual_level = 0.0, texture_level = 0.0;
 };
 
 }  // namespace dsm

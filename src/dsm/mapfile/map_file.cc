@@ -167,7 +167,9 @@ json WriteMap(const StoredMap& stored, size_t i, const PinholeCamera& camera, Ar
   return {{"keyframes", K},         {"points", P},
           {"observations", O},      {"thumbnail_values", T},
           {"covisibility_links", C}, {"interpolation", InterpolationName(map.interpolation())},
-          {"window", stored.window}, {"covisible", stored.covisible}};
+          {"window", stored.window}, {"covisible", stored.covisible},
+          {"image_noise_sigma", stored.image_noise_sigma},
+          {"tracking_levels", {{"residual", stored.residual_level}, {"texture", stored.texture_level}}}};
 }
 
 // ---- Reading -------------------------------------------------------------------------------
@@ -296,6 +298,13 @@ StoredMap ReadMap(const Manifest& m, const ArrayReader& arrays, const json& entr
   out.window = m.Ids(entry, "window", where, K);
   out.covisible = m.Ids(entry, "covisible", where, K);
   out.map.set_interpolation(interpolation == "bspline" ? Interpolation::kBSpline : Interpolation::kBilinear);
+  out.image_noise_sigma = m.Number(entry, "image_noise_sigma", where);
+  const json& tracking_levels = m.At(entry, "tracking_levels", where);
+  out.residual_level = m.Number(tracking_levels, "residual", where + "tracking_levels.");
+  out.texture_level = m.Number(tracking_levels, "texture", where + "tracking_levels.");
+  if (out.image_noise_sigma < 0.0 || out.residual_level < 0.0 || out.texture_level < 0.0) {
+    m.Fail(where + "image_noise_sigma and tracking_levels must not be negative");
+  }
 
   const std::string dir = MapDir(i);
   const std::string in_map = " (map " + std::to_string(i) + ")";

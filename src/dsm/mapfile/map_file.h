@@ -8,7 +8,8 @@
 //                    "options": the option file of the run that made the maps (io/options_io.h),
 //                    "maps": [{"id", "keyframes", "points", "observations", "thumbnail_values",
 //                              "covisibility_links", "interpolation": "bilinear" | "bspline",
-//                              "window": [ids], "covisible": [ids]}, ...],
+//                              "window": [ids], "covisible": [ids], "image_noise_sigma",
+//                              "tracking_levels": {"residual", "texture"}}, ...],
 //                    "arrays": {"<entry name>": {"type", "shape", "crc32"}, ...}}
 //   maps/<i>/<array> one raw array per entry, little-endian, row-major, of the type and shape the
 //                    manifest gives (types u8, u16, i32, i64, f32, f64), for the map at position i:

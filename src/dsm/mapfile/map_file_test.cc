@@ -57,6 +57,9 @@ MapFile SampleFile() {
   stored.window = {0, 1, 2, 3};
   stored.covisible = {};
   stored.covisibility = {{}, {}, {0}, {0, 1}};
+  stored.image_noise_sigma = 2.75;
+  stored.residual_level = 3.125;
+  stored.texture_level = 41.5;
   file.maps.push_back(std::move(stored));
   file.maps.emplace_back();
   return file;
@@ -75,6 +78,9 @@ void ExpectSameMaps(const MapFile& a, const MapFile& b) {
     EXPECT_EQ(a.maps[m].window, b.maps[m].window);
     EXPECT_EQ(a.maps[m].covisible, b.maps[m].covisible);
     EXPECT_EQ(x.interpolation(), y.interpolation());
+    EXPECT_EQ(a.maps[m].image_noise_sigma, b.maps[m].image_noise_sigma);
+    EXPECT_EQ(a.maps[m].residual_level, b.maps[m].residual_level);
+    EXPECT_EQ(a.maps[m].texture_level, b.maps[m].texture_level);
     ASSERT_EQ(x.NumKeyframes(), y.NumKeyframes());
     ASSERT_EQ(x.NumPoints(), y.NumPoints());
     for (int k = 0; k < x.NumKeyframes(); ++k) {

@@ -5,7 +5,16 @@
 
 namespace dsm {
 
-MapSet::MapSet(Factory make, Closer close) : make_(std::move(make)), close_(std::move(close)) { current_ = NewEntry(); }
+MapSet::MapSet(Factory make, Closer close, std::vector<std::unique_ptr<System>> loaded)
+    : make_(std::move(make)), close_(std::move(close)) {
+  for (std::unique_ptr<System>& system : loaded) {
+    Entry e;
+    e.id = next_id_++;
+    e.system = std::move(system);
+    suspended_.push_back(std::move(e));
+  }
+  current_ = NewEntry();
+}
 
 MapSet::Entry MapSet::NewEntry() {
   Entry e;

@@ -9,6 +9,8 @@
 // are the suspended map's, it becomes the current map again (the camera is back where it was
 // mapped) and the map it replaces ends; withdrawn, the current map takes both frames in order.
 // Each frame thus belongs to exactly one map, and a map's frames may come in several spans.
+// Maps loaded from a map file (System::RestoreMap) start as suspended maps, before the first new
+// one: the camera is taken to be in one of them as soon as it relocalises there.
 #pragma once
 
 #include <chrono>
@@ -32,7 +34,9 @@ class MapSet {
   // Called once per map when it ends for good (replaced by a resumed map, or at Close), with its
   // id (creation order, from 0) and spans (empty: it took no frame).
   using Closer = std::function<void(int id, System& system, const Spans& spans)>;
-  MapSet(Factory make, Closer close);
+  // `loaded`: maps taken up from a map file (ids 0, 1, ...), suspended; the first new map takes
+  // the next id.
+  MapSet(Factory make, Closer close, std::vector<std::unique_ptr<System>> loaded = {});
 
   // A frame the run settled: its report and the map it belongs to.
   struct Settled {

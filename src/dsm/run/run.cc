@@ -217,6 +217,29 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
   return all;
 }
 
+// RunOptions::load_map: its maps, each taken up by a System of `make`; none without a file.
+// InputError naming the file when it holds no map or was made with another camera.
+template <typename Make>
+std::vector<std::unique_ptr<System>> LoadMaps(const fs::path& file, const PinholeCamera& camera, const Make& make) {
+  std::vector<std::unique_ptr<System>> systems;
+  if (file.empty()) return systems;
+  MapFile loaded = ReadMapFile(file);
+  const PinholeCamera& c = loaded.camera;
+  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b)); };
+  if (c.width != camera.width || c.height != camera.height || !near(c.fx, camera.fx) || !near(c.fy, camera.fy) ||
+      !near(c.cx, camera.cx) || !near(c.cy, camera.cy)) {
+    throw InputError(file.string() + ": the map was made with another camera (" + CameraJson(c).dump() +
+                     "; this recording's undistorted camera is " + CameraJson(camera).dump() + ")");
+  }
+  for (StoredMap& stored : loaded.maps) {
+    if (stored.map.NumKeyframes() == 0) continue;
+    systems.push_back(make());
+    systems.back()->RestoreMap(std::move(stored));
+  }
+  if (systems.empty()) throw InputError(file.string() + ": the map file holds no map with keyframes");
+  return systems;
+}
+
 }  // namespace
 
 Pace ParsePace(const std::string& name, const std::string& where) {
@@ -300,14 +323,25 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   if (!options.save_map.empty() && fs::is_directory(options.save_map)) {
     throw InputError(options.save_map.string() + ": --save-map names a folder, not a file");
   }
+  const auto make_system = [&] {
+    auto system = std::make_unique<System>(undistorter.output(), system_options);
+    system->SetPoseListener([&first_posed](int, const SE3d&) {
+      if (!first_posed) first_posed = std::chrono::steady_clock::now();
+    });
+    return system;
+  };
+  std::vector<std::unique_ptr<System>> loaded = LoadMaps(options.load_map, undistorter.output(), make_system);
+  const int loaded_maps = static_cast<int>(loaded.size());
+  nlohmann::json map_loaded;
+  if (!loaded.empty()) {
+    int keyframes = 0, points = 0;
+    for (const auto& system : loaded) keyframes += system->loaded_keyframes(), points += system->loaded_points();
+    map_loaded = {{"file", options.load_map.string()}, {"maps", loaded_maps}, {"keyframes", keyframes},
+                  {"points", points}};
+  }
+  int relocalised_in_loaded_at = -1;  // The first frame a loaded map took.
   MapSet map_set(
-      [&] {
-        auto system = std::make_unique<System>(undistorter.output(), system_options);
-        system->SetPoseListener([&first_posed](int, const SE3d&) {
-          if (!first_posed) first_posed = std::chrono::steady_clock::now();
-        });
-        return system;
-      },
+      make_system,
       [&](int id, System& system, const MapSet::Spans& spans) {
         if (ended.size() <= static_cast<size_t>(id)) ended.resize(id + 1);
         ended[id] = CloseMap(system, map_dir(id), spans, options.global_ba, undistorter.output(), options.write_map,
@@ -316,7 +350,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
           if (stored.size() <= static_cast<size_t>(id)) stored.resize(id + 1);
           stored[id] = system.TakeStoredMap();
         }
-      });
+      },
+      std::move(loaded));
   int dropped = 0;
   std::vector<int> skipped;  // Frames whose file could not be used.
   bool any_frame_used = false;  // A frame of the calibration's size was read.
@@ -336,7 +371,12 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     if (debug) debug->AddFrame(r, s.map);
     if (debug && r.keyframe && s.map == 0) debug->AddKeyframes(map_set.current());  // The first map's.
     // Events: tracking lost (once per episode), regained, and a map the camera came back to.
-    if (r.resumed) {
+    if (r.status == TrackingStatus::kOk && s.map < loaded_maps && relocalised_in_loaded_at < 0) {
+      relocalised_in_loaded_at = i;
+      progress.Event("frame " + std::to_string(i) + "  relocalised in the loaded map " + std::to_string(s.map));
+    } else if (r.resumed && s.map < loaded_maps && r.index == relocalised_in_loaded_at + 1) {
+      // The relocalisation's confirmation, told with it.
+    } else if (r.resumed) {
       progress.Event("frame " + std::to_string(i) + "  back in map " + std::to_string(s.map) + " (relocalised)");
     } else if (r.relocalised || (r.status == TrackingStatus::kLost && last_status != TrackingStatus::kLost)) {
       progress.Event("frame " + std::to_string(i) + "  " + (r.relocalised ? "relocalised" : "tracking lost") +
@@ -554,9 +594,14 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     summary.stats["realtime_factor"] = realtime_factor;
   }
   char line[512];
-  std::snprintf(line, sizeof(line), "%d/%d frames tracked, %d keyframes, %d points, initialised at frame %d, %.1f fps",
-                s.frames_tracked, s.frames, s.keyframes, map_points, s.initialized_at_frame, fps);
+  std::snprintf(line, sizeof(line), "%d/%d frames tracked, %d keyframes, %d points, ", s.frames_tracked, s.frames,
+                s.keyframes, map_points);
   summary.line = line;
+  // A run that went on in a loaded map started none of its own.
+  if (s.initialized_at_frame >= 0 || map_loaded.is_null())
+    summary.line += "initialised at frame " + std::to_string(s.initialized_at_frame) + ", ";
+  std::snprintf(line, sizeof(line), "%.1f fps", fps);
+  summary.line += line;
 
   if (recording_s > 0.0) {
     std::snprintf(line, sizeof(line), " (%.2fx real time)", realtime_factor);
@@ -567,7 +612,12 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                   s.relocalisations);
     summary.line += line;
   }
-  if (maps.size() > 1) summary.line += ", " + std::to_string(maps.size()) + " maps";
+  // Maps counted: those that took part (a new map that never started while the camera
+  // relocalised in a loaded one does not).
+  const size_t maps_made = std::count_if(maps.begin(), maps.end(), [&](const MapRun& m) {
+    return m.stats.keyframes > 0 || &m - maps.data() < loaded_maps;
+  });
+  if (maps_made > 1) summary.line += ", " + std::to_string(maps_made) + " maps";
   nlohmann::json map_list = nlohmann::json::array();
   for (size_t k = 0; k < maps.size(); ++k) {
     MapRun& m = maps[k];
@@ -582,7 +632,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     nlohmann::json j = {{"dir", fs::relative(m.dir, out_dir).string()}, {"first_frame", m.first_frame},
                         {"last_frame", m.last_frame}, {"spans", m.spans}, {"frames_tracked", m.stats.frames_tracked},
                         {"keyframes", m.stats.keyframes}, {"map_points", m.map_points},
-                        {"initialized_at_frame", m.stats.initialized_at_frame}};
+                        {"initialized_at_frame", m.stats.initialized_at_frame},
+                        {"loaded", static_cast<int>(k) < loaded_maps}};
     if (m.eval) j["keyframe_ate_m"] = (*m.eval)["keyframes"]["ape"]["rmse"];
     if (m.map_points > 0) {
       j["bounds"] = {{"min", {m.bounds_min.x(), m.bounds_min.y(), m.bounds_min.z()}},
@@ -591,6 +642,16 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     map_list.push_back(j);
   }
   summary.stats["maps"] = map_list;
+  if (!map_loaded.is_null()) {
+    summary.stats["map_loaded"] = map_loaded;
+    summary.stats["relocalised_in_loaded_map_at_frame"] =
+        relocalised_in_loaded_at >= 0 ? nlohmann::json(relocalised_in_loaded_at) : nlohmann::json(nullptr);
+    summary.stats["keyframes_added"] = s.keyframes;
+    summary.stats["points_added"] = s.points_created;
+    summary.line += relocalised_in_loaded_at >= 0
+                        ? "; relocalised in the loaded map at frame " + std::to_string(relocalised_in_loaded_at)
+                        : "; never relocalised in the loaded map";
+  }
   summary.stats["peak_rss_mb"] = PeakRssMb();
   // The map file: every map that has keyframes, in the order the run made them. A failure to write
   // it is reported after the other outputs are written.

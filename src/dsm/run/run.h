@@ -7,6 +7,7 @@
 //                               RunOptions::write_map false)
 //   report.html                 the run's report page (report/report.h; not with write_report false)
 //   RunOptions::save_map        the maps as a map file (mapfile/map_file.h), when set
+// With RunOptions::load_map the maps of that file come first (map 0 is its first map).
 // A run that starts further maps (relocalisation kept failing) writes each into map_1/, map_2/, ...
 #pragma once
 
@@ -57,6 +58,11 @@ struct RunOptions {
   bool write_report = true;  // report.html (report/report.h) in the output folder.
   // Non-empty: every map of the run is written to this map file (mapfile/map_file.h) at the end.
   std::filesystem::path save_map;
+  // Non-empty: the maps of this map file are taken up first (System::RestoreMap): the run
+  // relocalises in them where the camera starts in a known place, writes its poses in that map's
+  // frame and scale and extends it; elsewhere it starts a new map as usual. Output folder 0 is the
+  // file's first map; keyframes.tum holds the keyframes this run added.
+  std::filesystem::path load_map;
   // >= 0: the live viewer (live_view.h) on this localhost port (0: a free one), its address printed.
   int view_port = -1;
   // With the live viewer: before the first frame, wait up to this long for a browser to connect,

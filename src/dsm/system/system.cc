@@ -66,13 +66,15 @@ System::System(const PinholeCamera& camera, const SystemOptions& options)
 
 System::~System() = default;
 
-void System::ChooseNoiseHandling(const Image<float>& first) {
-  stats_.image_noise_sigma = EstimateNoiseSigma(first);
+void System::ChooseNoiseHandling(double noise_sigma) {
+  stats_.image_noise_sigma = noise_sigma;
   if (stats_.image_noise_sigma < options_.candidates.contrast_min_noise) options_.candidates.contrast_factor = 0.f;
   stats_.contrast_floor = options_.candidates.contrast_factor > 0.f;
-  const bool bspline = options_.interpolation == "bspline" ||
-                       (options_.interpolation == "auto" && stats_.image_noise_sigma >= options_.bspline_min_noise);
-  map_.set_interpolation(bspline ? Interpolation::kBSpline : Interpolation::kBilinear);
+  bool bspline = options_.interpolation == "bspline" ||
+                 (options_.interpolation == "auto" && stats_.image_noise_sigma >= options_.bspline_min_noise);
+  // A loaded map's points were sampled its way: it keeps it.
+  if (map_.NumPoints() > 0) bspline = map_.interpolation() == Interpolation::kBSpline;
+  if (map_.NumPoints() == 0) map_.set_interpolation(bspline ? Interpolation::kBSpline : Interpolation::kBilinear);
   stats_.interpolation = bspline ? "bspline" : "bilinear";
   TextureLossOptions& texture = options_.pba.texture_loss;
   if (options_.mode == MapMode::kFull && options_.texture_loss_min_noise > 0.0 &&
@@ -89,7 +91,7 @@ FrameReport System::Process(int index, int64_t t_ns, const Image<float>& image, 
   NoteTimestamp(index, t_ns);
   if (!suspended_) ++stats_.frames;  // A suspended map's frame counts once it is tracked.
   const double exposure = exposure_ms > 0.0 ? exposure_ms : 1.0;
-  if (stats_.image_noise_sigma < 0.0) ChooseNoiseHandling(image);
+  if (stats_.image_noise_sigma < 0.0) ChooseNoiseHandling(EstimateNoiseSigma(image));
   if (state_ == TrackingState::kInitializing) return Initialize(index, t_ns, image, exposure);
 
   // The paper's tracking thread: the frame is aligned with the newest keyframe the mapping side
@@ -380,20 +382,6 @@ void System::Finish() {
   MergeInitTracked();
 }
 
-StoredMap System::TakeStoredMap() {
-  Finish();
-  StoredMap stored;
-  stored.window = window_;
-  stored.covisible = covisible_;
-  for (const SystemStats::KeyframeLog& log : stats_.per_keyframe) stored.covisibility.push_back(log.covisible);
-  stored.covisibility.resize(std::min<size_t>(stored.covisibility.size(), map_.NumKeyframes()));
-  stored.map = std::move(map_);
-  map_ = Map();
-  window_.clear();
-  covisible_.clear();
-  return stored;
-}
-
 TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const {
   // Relative brightness guess: the last one, corrected for the change of exposure time.
   const double alpha_guess = track_.alpha + std::log(exposure / track_.exposure);
@@ -470,7 +458,8 @@ void System::TraceCandidates(const ImagePyramid& pyramid, int reference, const S
 
 Trajectory System::KeyframeTrajectory() const {
   Trajectory t;
-  for (int k = 0; k < map_.NumKeyframes(); ++k) t.Add(map_.keyframe(k).t_ns, map_.keyframe(k).WorldFromCam());
+  for (int k = loaded_keyframes_; k < map_.NumKeyframes(); ++k)
+    t.Add(map_.keyframe(k).t_ns, map_.keyframe(k).WorldFromCam());
   return t;
 }
 

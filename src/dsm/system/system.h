@@ -184,16 +184,27 @@ class System {
   // sequential). The accessors below read the map: call this first when threaded.
   void Finish();
 
-  // world_from_cam of every keyframe / every tracked frame, with the latest keyframe poses.
+  // world_from_cam of every keyframe this run made (a loaded map's are left out: RestoreMap) /
+  // every tracked frame, with the latest keyframe poses.
   Trajectory KeyframeTrajectory() const;
   Trajectory FrameTrajectory() const;
   const SystemStats& stats() const { return stats_; }
   int NumMapPoints() const;
   const Map& map() const { return map_; }
-  // Finishes (Finish), then hands over the map with the window it ended with and each keyframe's
-  // covisible keyframes, for a map file: the System is left with an empty map and is not used
-  // again.
+  // Finishes (Finish), then hands over the map with the window it ended with, each keyframe's
+  // covisible keyframes, its noise handling and tracking levels, for a map file: the System is
+  // left with an empty map and is not used again.
   StoredMap TakeStoredMap();
+  // A new System (no frame given yet) takes up a map of a map file, as a map the camera left
+  // (Suspend): lost, each frame is tried against it by relocalisation with nothing to predict
+  // from (the camera may start anywhere in it), so three frames in a row must relocalise to poses
+  // that move as one camera, and the next frame confirm it (FrameReport::resumed). From there it
+  // tracks and maps in the loaded map's frame and scale, extending it. The map keeps its noise
+  // handling; its tracking levels judge the first frames. The stats, trajectories and keyframe
+  // logs are this run's: KeyframeTrajectory holds the keyframes it adds, not the loaded ones.
+  void RestoreMap(StoredMap stored);
+  int loaded_keyframes() const { return loaded_keyframes_; }  // Taken up by RestoreMap (0: none) ...
+  int loaded_points() const { return loaded_points_; }        // ... and their points (live ones).
   // The map's size as the tracking side last took it over (its tracking reference): keyframes
   // mapped and live points. For progress displays; safe between Process calls in every pace.
   struct MapSize {
@@ -322,10 +333,10 @@ class System {
   // reference; the wait is left out of f's tracking time. True when the reference changed.
   bool WaitForMapping(FrameWork* f, std::optional<std::chrono::steady_clock::time_point> until);
 
-  // On the first frame: its noise level, and from it whether the candidates' contrast floor applies
+  // On the first frame (or a loaded map's): its noise level, and from it whether the candidates' contrast floor applies
   // (candidate_selector.h: from candidates.contrast_min_noise on), how residuals sample images and
   // whether the texture-loss test is on.
-  void ChooseNoiseHandling(const Image<float>& first);
+  void ChooseNoiseHandling(double noise_sigma);
   FrameReport Initialize(int index, int64_t t_ns, const Image<float>& image, double exposure);
   void StartMap(const struct InitResult& init);
   // The best alignment of the frame against the reference from the motion guesses; commits nothing.
@@ -436,6 +447,10 @@ class System {
   void MapNewKeyframe(int kf);
   // One bundle adjustment of every keyframe (keyframe 0 fixed) and point.
   PbaSummary AdjustWholeMap();
+  // `held` and the keyframes of a loaded map (RestoreMap): the map a later session extends is its
+  // reference, so their poses stay where the file has them in every adjustment and the session's
+  // poses are in its frame and scale (their points' depths are still refined).
+  std::vector<int> HeldWithLoaded(std::vector<int> held) const;
   std::vector<int> AllKeyframes() const;  // 0 .. NumKeyframes() - 1.
   // A young map's or loop bundle adjustment (AdjustYoungMap, AdjustLoop). Threaded
   // (SystemOptions::yield_adjustments), it stops for a keyframe waiting to be mapped and is taken
@@ -552,6 +567,12 @@ class System {
   std::map<int, OrbFeatures> keyframe_features_;
   // Mapping side: adjustments stopped for a relocalisation, taken up after the next keyframe.
   std::vector<Adjustment> parked_;
+  // RestoreMap: the keyframes and live points loaded, the covisible keyframes each was mapped
+  // with, and the camera's speed per frame as the map has it (between consecutive keyframes),
+  // the reach that judges its first sightings (MovesAsOneCamera).
+  int loaded_keyframes_ = 0, loaded_points_ = 0;
+  std::vector<std::vector<int>> loaded_covisibility_;
+  double loaded_speed_ = 0.0;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.
 };
 

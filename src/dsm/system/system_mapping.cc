@@ -92,7 +92,7 @@ void System::MapNewKeyframe(int kf) {
   // Covisible keyframes bring their points; their poses stay where the older map put them unless
   // asked otherwise (moving them cost accuracy on every synthetic scene).
   const std::vector<int> held = options_.window.optimize_covisible_poses ? std::vector<int>{} : covisible_;
-  const PbaSummary pba = RunPba(&map_, camera_, ActiveKeyframes(), options_.pba, held);
+  const PbaSummary pba = RunPba(&map_, camera_, ActiveKeyframes(), options_.pba, HeldWithLoaded(held));
   SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
   log.pba_keyframes = pba.keyframes;
   log.pba_fixed_keyframes = pba.fixed_keyframes;
@@ -134,7 +134,8 @@ void System::Adjust(Adjustment a) {
   }
   yield.level = a.level;
   yield.iterations = a.iterations;
-  const PbaSummary s = RunPba(&map_, camera_, a.young ? AllKeyframes() : a.keyframes, a.options, a.held, yield);
+  const PbaSummary s =
+      RunPba(&map_, camera_, a.young ? AllKeyframes() : a.keyframes, a.options, HeldWithLoaded(a.held), yield);
   SystemStats::KeyframeLog& log = stats_.per_keyframe[a.log];
   if (a.young) {
     log.young_map_ba_ms += s.time_ms;
@@ -307,7 +308,12 @@ std::vector<int> System::AllKeyframes() const {
   return all;
 }
 
-PbaSummary System::AdjustWholeMap() { return RunPba(&map_, camera_, AllKeyframes(), options_.pba); }
+PbaSummary System::AdjustWholeMap() { return RunPba(&map_, camera_, AllKeyframes(), options_.pba, HeldWithLoaded({})); }
+
+std::vector<int> System::HeldWithLoaded(std::vector<int> held) const {
+  for (int k = 0; k < loaded_keyframes_; ++k) held.push_back(k);
+  return held;
+}
 
 void System::RunGlobalBundleAdjustment() {
   if (map_.NumKeyframes() < 2) return;
@@ -479,8 +485,11 @@ std::shared_ptr<const System::TrackingReference> System::MakeReference(
       snapshot->world_from_cam.push_back(map_.keyframe(k).WorldFromCam());
       snapshot->keyframe_frames.push_back(map_.keyframe(k).frame_index);
     }
+    for (size_t k = 0; k < loaded_covisibility_.size(); ++k)
+      for (int c : loaded_covisibility_[k]) snapshot->covisibility.emplace_back(static_cast<int>(k), c);
     for (size_t k = 0; k < stats_.per_keyframe.size(); ++k)
-      for (int c : stats_.per_keyframe[k].covisible) snapshot->covisibility.emplace_back(static_cast<int>(k), c);
+      for (int c : stats_.per_keyframe[k].covisible)
+        snapshot->covisibility.emplace_back(loaded_keyframes_ + static_cast<int>(k), c);
     ref->snapshot = std::move(snapshot);
   }
   return ref;

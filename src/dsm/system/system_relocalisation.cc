@@ -72,7 +72,9 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
   if (n1 < 1 || n2 < 1 || n1 > kMaxGap || n2 > kMaxGap) return false;
   const SE3d b_from_a = b.cam_from_world * a.cam_from_world.Inverse();
   const SE3d now_from_b = now.cam_from_world * b.cam_from_world.Inverse();
-  if (!track_.quality.CheckSpeed(b_from_a, n1, track_.velocity.Translation().norm(), mean_idepth).empty()) return false;
+  // A loaded map not yet tracked in this run has no speed before: the map's own (RestoreMap).
+  const double speed = track_.last_trusted_index >= 0 ? track_.velocity.Translation().norm() : loaded_speed_;
+  if (!track_.quality.CheckSpeed(b_from_a, n1, speed, mean_idepth).empty()) return false;
   return track_.quality.CheckJump(now_from_b, n2, internal::Scale(b_from_a, 1.0 / n1), mean_idepth).empty();
 }
 
@@ -247,7 +249,10 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   const auto cam_from_world = [&](const Found& f) {
     return f.result.frame_from_keyframe * map_.keyframe(f.keyframe).cam_from_world;
   };
-  const bool predicted = plain.empty() && since <= options_.relocalisation.max_predicted_frames;
+  // A loaded map not yet tracked in this run (RestoreMap) has no trusted frame to predict from or
+  // to measure a step against: its frames relocalise by three sightings alone.
+  const bool trusted = track_.last_trusted_index >= 0;
+  const bool predicted = trusted && plain.empty() && since <= options_.relocalisation.max_predicted_frames;
   // Why not, as told: the failure of the attempt with the most of its keyframe's points in view,
   // not of the last one tried (often a keyframe that does not see the place at all, whose "too few
   // points in view" would hide why the reference's alignment failed).
@@ -260,7 +265,8 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
       const int k = candidates[c];
       Aligned& a = aligned[c];
       for (const TrackResult& r : a.results) {
-        const SE3d step = r.frame_from_keyframe * map_.keyframe(k).cam_from_world * last_from_world.Inverse();
+        const SE3d step =
+            trusted ? r.frame_from_keyframe * map_.keyframe(k).cam_from_world * last_from_world.Inverse() : SE3d();
         std::string fail = track_.quality.CheckTracking(r, step, since, a.mean_idepth, k != ref);
         if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))
           sighted = Found{r, k, &a};

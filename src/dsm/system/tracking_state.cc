@@ -9,6 +9,7 @@ std::optional<TrackingState> NextTrackingState(TrackingState state, TrackingEven
   switch (state) {
     case S::kInitializing:
       if (event == E::kMapStarted) return S::kTracking;
+      if (event == E::kMapLoaded) return S::kLost;
       break;
     case S::kTracking:
       if (event == E::kTracked) return S::kTracking;

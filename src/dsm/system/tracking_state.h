@@ -3,6 +3,7 @@
 //
 //   state          event          next state
 //   kInitializing  kMapStarted    kTracking
+//   kInitializing  kMapLoaded     kLost        (a map from a map file: the camera is somewhere in it)
 //   kTracking      kTracked       kTracking
 //   kTracking      kFailed        kLost        (a lost episode opens)
 //   kLost          kFailed        kLost
@@ -31,6 +32,7 @@ enum class TrackingState { kInitializing, kTracking, kLost, kConfirming };
 
 enum class TrackingEvent {
   kMapStarted,    // The initialiser found two views.
+  kMapLoaded,     // A map from a map file was taken up (System::RestoreMap), before any frame.
   kTracked,       // The frame passed the quality test against the reference.
   kFailed,        // The frame failed it (and, while lost, relocalisation failed).
   kRelocalised,   // A lost frame passed the test against a keyframe of the map.

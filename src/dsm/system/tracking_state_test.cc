@@ -16,6 +16,10 @@ TEST(TrackingState, TheMapStartEndsTheInitialisation) {
   EXPECT_EQ(NextTrackingState(S::kInitializing, E::kMapStarted), S::kTracking);
 }
 
+TEST(TrackingState, ALoadedMapStartsLost) {
+  EXPECT_EQ(NextTrackingState(S::kInitializing, E::kMapLoaded), S::kLost);
+}
+
 TEST(TrackingState, ATrackedFrameKeepsTracking) { EXPECT_EQ(NextTrackingState(S::kTracking, E::kTracked), S::kTracking); }
 
 TEST(TrackingState, AFailedFrameIsLost) { EXPECT_EQ(NextTrackingState(S::kTracking, E::kFailed), S::kLost); }
@@ -36,17 +40,18 @@ TEST(TrackingState, AWithdrawnRelocalisationIsLostAgain) {
 
 TEST(TrackingState, EveryOtherPairIsNoTransition) {
   const S states[] = {S::kInitializing, S::kTracking, S::kLost, S::kConfirming};
-  const E events[] = {E::kMapStarted, E::kTracked, E::kFailed, E::kRelocalised, E::kWithdrawn};
+  const E events[] = {E::kMapStarted, E::kMapLoaded, E::kTracked, E::kFailed, E::kRelocalised, E::kWithdrawn};
   int transitions = 0;
   for (S s : states)
     for (E e : events) transitions += NextTrackingState(s, e).has_value();
-  EXPECT_EQ(transitions, 7);
+  EXPECT_EQ(transitions, 8);
   // Those an implementation could be tempted to allow.
   EXPECT_FALSE(NextTrackingState(S::kInitializing, E::kFailed));   // Frames the initialiser waits on.
   EXPECT_FALSE(NextTrackingState(S::kLost, E::kTracked));          // Lost: only relocalisation.
   EXPECT_FALSE(NextTrackingState(S::kConfirming, E::kFailed));     // Withdrawn first.
   EXPECT_FALSE(NextTrackingState(S::kConfirming, E::kRelocalised));
   EXPECT_FALSE(NextTrackingState(S::kTracking, E::kMapStarted));
+  EXPECT_FALSE(NextTrackingState(S::kTracking, E::kMapLoaded));  // A map is loaded before any frame.
 }
 
 TEST(TrackingState, Names) {

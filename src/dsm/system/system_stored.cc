@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+// A System's map handed to a map file (TakeStoredMap) and taken up from one (RestoreMap).
+#include <algorithm>
+#include <vector>
+
+#include "dsm/system/system.h"
+#include "dsm/util/check.h"
+#include "dsm/util/median.h"
+
+namespace dsm {
+
+StoredMap System::TakeStoredMap() {
+  Finish();
+  StoredMap stored;
+  stored.window = window_;
+  stored.covisible = covisible_;
+  stored.covisibility = loaded_covisibility_;
+  for (const SystemStats::KeyframeLog& log : stats_.per_keyframe) stored.covisibility.push_back(log.covisible);
+  stored.covisibility.resize(std::min<size_t>(stored.covisibility.size(), map_.NumKeyframes()));
+  stored.image_noise_sigma = std::max(0.0, stats_.image_noise_sigma);
+  stored.residual_level = track_.quality.ResidualLevel();
+  stored.texture_level = track_.quality.TextureLevel();
+  stored.map = std::move(map_);
+  map_ = Map();
+  window_.clear();
+  covisible_.clear();
+  return stored;
+}
+
+void System::RestoreMap(StoredMap stored) {
+  DSM_CHECK(state_ == TrackingState::kInitializing && seen_index_ < 0 && map_.NumKeyframes() == 0,
+            "a map is taken up by a new System, before its first frame");
+  DSM_CHECK(stored.map.NumKeyframes() > 0, "a restored map has keyframes");
+  map_ = std::move(stored.map);
+  ChooseNoiseHandling(stored.image_noise_sigma);
+  window_ = std::move(stored.window);
+  covisible_ = std::move(stored.covisible);
+  if (options_.mode == MapMode::kSlidingWindow) {
+    window_.insert(window_.end(), covisible_.begin(), covisible_.end());
+    covisible_.clear();
+  }
+  loaded_keyframes_ = map_.NumKeyframes();
+  loaded_points_ = map_.NumLivePoints();
+  loaded_covisibility_ = std::move(stored.covisibility);
+  loaded_covisibility_.resize(loaded_keyframes_);
+  next_keyframe_ = loaded_keyframes_;
+
+  // The camera's speed per frame as the map has it: the median step between consecutive
+  // keyframes over the frames between them.
+  std::vector<double> speeds;
+  for (int k = 1; k < loaded_keyframes_; ++k) {
+    const Keyframe& a = map_.keyframe(k - 1);
+    const Keyframe& b = map_.keyframe(k);
+    const int frames = b.frame_index - a.frame_index;
+    if (frames > 0) speeds.push_back((b.Centre() - a.Centre()).norm() / frames);
+  }
+  loaded_speed_ = speeds.empty() ? 0.0 : Median(speeds);
+
+  // The newest keyframe of the window is the reference lost frames are tried against first (with
+  // those most like each frame), as for a camera lost from it.
+  const int ref = window_.empty() ? loaded_keyframes_ - 1 : window_.back();
+  track_ = TrackingHistory{};
+  track_.quality = TrackingQuality(options_.quality);
+  track_.quality.Seed(stored.residual_level,
+                      std::vector<double>(stored.texture_level > 0.0 ? options_.quality.min_history : 0,
+                                          stored.texture_level));
+  track_.exposure = map_.keyframe(ref).exposure;
+  AdoptReference(MakeReference(ref, PointsSeenIn(ref), map_.keyframe(ref).PyramidOrRebuilt()));
+  Transition(TrackingEvent::kMapLoaded);
+  suspended_ = true;
+}
+
+}  // namespace dsm
