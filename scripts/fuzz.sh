@@ -55,6 +55,11 @@ seed folder_dataset scene-camera 0 "$work/scene/camera.yaml"
 seed folder_dataset scene-times 1 "$work/scene/times.txt"
 seed folder_dataset scene-gt 2 "$work/scene/groundtruth.tum"
 seed trajectory scene-gt 0 "$work/scene/groundtruth.tum"
+# A map file of a few keyframes, made by a short run on a small rendering.
+"$ASAN_DIR/bin/dsm" synth --scene loop --frames 30 --width 128 --height 96 --out "$work/map_scene" >/dev/null
+mkdir -p "$work/seeds/map_file"
+"$ASAN_DIR/bin/dsm" run "$work/map_scene" --sequential --quiet --no-report --no-map --out "$work/map_run" \
+  --save-map "$work/seeds/map_file/small.dsmmap" >/dev/null
 
 fuzz_one() {  # fuzz_one TARGET: runs it, prints one line, returns non-zero on a finding
   local t=$1
