@@ -158,7 +158,7 @@ class PySystem {
 
 py::dict Run(const std::string& dataset_path, const std::string& out, const std::string& mode, const std::string& pace,
              int start, int end, bool global_ba, bool write_map, bool write_report, const py::object& options,
-             bool quiet) {
+             bool quiet, const std::string& load_map, const std::string& save_map) {
   RunOptions o;
   o.system = OptionsFrom(options);
   o.system.mode = ParseMapMode(mode, "mode");
@@ -169,6 +169,8 @@ py::dict Run(const std::string& dataset_path, const std::string& out, const std:
   o.write_map = write_map;
   o.write_report = write_report;
   o.quiet = quiet;
+  o.load_map = load_map;
+  o.save_map = save_map;
   const Dataset dataset = OpenDataset(dataset_path);
   RunSummary summary;
   {
@@ -191,10 +193,11 @@ PYBIND11_MODULE(dsm, m) {
   m.def("run", &Run, py::arg("dataset"), py::kw_only(), py::arg("out") = "dsm_out", py::arg("mode") = "dsm",
         py::arg("pace") = "sequential", py::arg("start") = 0, py::arg("end") = -1, py::arg("global_ba") = false,
         py::arg("write_map") = true, py::arg("write_report") = true, py::arg("options") = py::none(),
-        py::arg("quiet") = true,
+        py::arg("quiet") = true, py::arg("load_map") = "", py::arg("save_map") = "",
         "Runs SLAM over a dataset folder or video as `dsm run` does (default pace: sequential, deterministic) and "
         "returns stats.json as a dict (with 'eval' when the dataset has ground truth). `options`: a dict of option "
-        "sections, as in a --config file, e.g. {'window': {'temporal_keyframes': 5}}.");
+        "sections, as in a --config file, e.g. {'window': {'temporal_keyframes': 5}}. `load_map`, `save_map`: map "
+        "files, as --load-map and --save-map.");
 
   py::class_<PyFrame>(m, "Frame")
       .def_readonly("index", &PyFrame::index)

@@ -68,6 +68,19 @@ def test_run_returns_the_stats(synthetic_run, tmp_path):
     assert not (tmp_path / "run" / "report.html").exists()
 
 
+def test_run_saves_and_loads_maps(synthetic_run, tmp_path):
+    out, _ = synthetic_run
+    scene = str(out.parent / "scene")
+    first = dsm.run(scene, out=str(tmp_path / "s1"), end=60, write_report=False, save_map=str(tmp_path / "a.dsmmap"))
+    assert first["map_saved"]["keyframes"] == first["keyframes"]
+    second = dsm.run(scene, out=str(tmp_path / "s2"), start=60, write_report=False,
+                     load_map=str(tmp_path / "a.dsmmap"))
+    assert second["map_loaded"]["keyframes"] == first["keyframes"]
+    assert 60 <= second["relocalised_in_loaded_map_at_frame"] <= 63
+    with pytest.raises(dsm.InputError, match="nothing.dsmmap"):
+        dsm.run(scene, out=str(tmp_path / "s3"), load_map=str(tmp_path / "nothing.dsmmap"))
+
+
 def test_bad_input_raises_with_dsm_message(synthetic_run, tmp_path):
     out, _ = synthetic_run
     with pytest.raises(dsm.InputError, match="no_such_folder"):
