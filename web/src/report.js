@@ -99,6 +99,12 @@ class MapView {
     const grey = decodeBase64(map.points.grey, Uint8Array);
     const colours = new Float32Array(xyz.length);
     for (let i = 0; i < grey.length; ++i) colours[3 * i] = colours[3 * i + 1] = colours[3 * i + 2] = 0.25 + 0.75 * grey[i] / 255;
+    // A map loaded from a map file (dsm run --load-map): its points first, tinted blue; those the
+    // run added in grey.
+    for (let i = 0; i < Math.min(map.points.loaded || 0, grey.length); ++i) {
+      colours[3 * i] *= 0.45;
+      colours[3 * i + 1] *= 0.7;
+    }
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(xyz, 3));
     geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
@@ -168,6 +174,7 @@ function summaryText(d) {
   if (s.keyframe_ate_mm !== undefined && s.keyframe_ate_mm !== null) parts.push(`keyframe ATE ${s.keyframe_ate_mm.toFixed(2)} mm`);
   if (s.frames_lost) parts.push(`${s.frames_lost} frames lost, ${s.relocalisations} relocalised`);
   if (d.maps.length > 1) parts.push(`${d.maps.length} maps`);
+  if (s.map_loaded) parts.push(`loaded map: ${s.map_loaded.keyframes} keyframes, ${s.map_loaded.points} points (blue)`);
   if (s.interrupted) parts.push('interrupted');
   if (s.state) parts.push(s.state);
   return parts.join(' · ');

@@ -9,10 +9,13 @@
 //                                       groundtruth_in_map.tum and eval.json (when present)
 // The document the page reads:
 //   title, summary {frames, frames_tracked, keyframes, map_points, mode, pace, frames_per_second,
-//                   realtime_factor, frames_lost, relocalisations, interrupted, keyframe_ate_mm}
+//                   realtime_factor, frames_lost, relocalisations, interrupted, keyframe_ate_mm,
+//                   map_loaded {file, maps, keyframes, points} (dsm run --load-map)}
 //   camera {width, height, fx, fy, cx, cy}
-//   maps [{dir, points {count, xyz: base64 float32 x y z..., grey: base64 uint8},
-//          keyframes [{id, frame, t, p [x y z], q [qx qy qz qw]}] (world_from_cam),
+//   maps [{dir, points {count, xyz: base64 float32 x y z..., grey: base64 uint8, loaded: the first
+//                       `loaded` points are a loaded map's (stats maps[].keyframes_loaded)},
+//          keyframes [{id, frame, t, p [x y z], q [qx qy qz qw]}] (world_from_cam; the run's own,
+//                     ids after a loaded map's),
 //          groundtruth [[t x y z]...] (in the map's frame), covisibility [[keyframe id, id]...]}]
 //   errors [{map, t [s], error_mm [...]}]  position error of the frames after Sim(3) alignment
 //   per_frame {frame [...], tracking_ms [...]}

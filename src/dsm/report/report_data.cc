@@ -59,17 +59,27 @@ Trajectory ReadRunTrajectory(const fs::path& path) {
 
 double Seconds(int64_t t_ns, int64_t t0_ns) { return 1e-9 * static_cast<double>(t_ns - t0_ns); }
 
-json PointsOf(const fs::path& ply) {
+// The points of a map's map.ply; `loaded_keyframes`: of a map loaded from a map file, its
+// keyframes then (they come first), whose points the page draws apart from those the run added.
+json PointsOf(const fs::path& ply, int loaded_keyframes) {
   std::vector<float> xyz;
   std::vector<uint8_t> grey;
+  int loaded = 0;
   if (fs::exists(ply)) {
     const PlyCloud cloud = ReadPly(ply);
+    const std::vector<int32_t>* host = nullptr;
+    for (const auto& [name, values] : cloud.ints)
+      if (name == "host") host = &values;
     for (size_t i = 0; i < cloud.xyz.size(); ++i) {
       xyz.insert(xyz.end(), cloud.xyz[i].data(), cloud.xyz[i].data() + 3);
       grey.push_back(cloud.rgb.empty() ? 200 : cloud.rgb[i][0]);
+      loaded += host != nullptr && (*host)[i] < loaded_keyframes;
     }
   }
-  return PointsJson(xyz, grey);
+  json points = PointsJson(xyz, grey);
+  // The map's points are in id order, so the loaded map's come first.
+  points["loaded"] = loaded;
+  return points;
 }
 
 // What the report reads of one map's folder.
@@ -87,17 +97,18 @@ MapFiles ReadMapFiles(const fs::path& dir) {
 }
 
 // One map's part of the document; `per_keyframe`: its keyframes' rows of stats.json.
+// `loaded_keyframes`: the keyframes a loaded map had (its keyframes.tum holds those after them).
 json MapOf(const fs::path& dir, const std::string& name, const MapFiles& files, const json& per_keyframe,
-           int64_t t0_ns, json* errors, int map_index) {
-  json m = {{"dir", name}, {"points", PointsOf(dir / "map.ply")}};
+           int64_t t0_ns, json* errors, int map_index, int loaded_keyframes) {
+  json m = {{"dir", name}, {"points", PointsOf(dir / "map.ply", loaded_keyframes)}};
   const Trajectory& keyframes = files.keyframes;
   json kfs = json::array(), links = json::array();
   for (size_t k = 0; k < keyframes.size(); ++k) {
     const json row = k < per_keyframe.size() ? per_keyframe[k] : json::object();
-    kfs.push_back(KeyframeJson(static_cast<int>(k), Get(row, "frame", -1), Seconds(keyframes.stamps_ns[k], t0_ns),
-                               keyframes.poses[k]));
+    const int id = loaded_keyframes + static_cast<int>(k);
+    kfs.push_back(KeyframeJson(id, Get(row, "frame", -1), Seconds(keyframes.stamps_ns[k], t0_ns), keyframes.poses[k]));
     if (row.contains("covisible"))
-      for (const json& c : row["covisible"]) links.push_back({k, c.get<int>()});
+      for (const json& c : row["covisible"]) links.push_back({id, c.get<int>()});
   }
   m["keyframes"] = kfs;
   m["covisibility"] = links;
@@ -148,7 +159,7 @@ json ReportData(const fs::path& run_dir) {
   data["title"] = ReportTitle(dataset.empty() ? run_dir : fs::path(dataset));
   json summary;
   for (const char* key : {"frames", "frames_tracked", "keyframes", "map_points", "mode", "pace", "frames_per_second",
-                          "realtime_factor", "frames_lost", "relocalisations", "interrupted"})
+                          "realtime_factor", "frames_lost", "relocalisations", "interrupted", "map_loaded"})
     if (stats.contains(key)) summary[key] = stats[key];
   data["camera"] = Get(stats, "camera", json());
   data["per_frame"] = Get(stats, "per_frame", json{{"frame", json::array()}, {"tracking_ms", json::array()}});
@@ -187,7 +198,10 @@ json ReportData(const fs::path& run_dir) {
     json slice = json::array();
     for (size_t i = row; i < std::min(rows.size(), row + n); ++i) slice.push_back(rows[i]);
     row += n;
-    data["maps"].push_back(MapOf(run_dir / name, name, files, slice, t0_ns, &data["errors"], static_cast<int>(k)));
+    // A new map that never started while the camera went on in a loaded one (dsm run --load-map).
+    if (n == 0 && !Get(maps[k], "loaded", false) && k > 0 && files.frames.empty()) continue;
+    data["maps"].push_back(MapOf(run_dir / name, name, files, slice, t0_ns, &data["errors"], static_cast<int>(k),
+                                 Get(maps[k], "keyframes_loaded", 0)));
   }
   data["summary"] = summary;
   return data;

@@ -72,6 +72,8 @@ struct MapRun {
   MapSet::Spans spans;                     // ... in spans (more than one: it was resumed).
   SystemStats stats;
   int map_points = 0;
+  int loaded_keyframes = 0;  // Of a map loaded from a map file (System::RestoreMap).
+  int loaded_points = 0;
   // Corners of the box around its points (world, the map's scale); min > max when it has none.
   Eigen::Vector3f bounds_min = Eigen::Vector3f::Constant(INFINITY), bounds_max = -bounds_min;
   Trajectory keyframes, frames;
@@ -119,6 +121,8 @@ MapRun CloseMap(System& system, const fs::path& dir, const MapSet::Spans& spans,
   m.frames = system.FrameTrajectory();
   m.stats = system.stats();
   m.map_points = system.NumMapPoints();
+  m.loaded_keyframes = system.loaded_keyframes();
+  m.loaded_points = system.loaded_points();
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
@@ -634,6 +638,10 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                         {"keyframes", m.stats.keyframes}, {"map_points", m.map_points},
                         {"initialized_at_frame", m.stats.initialized_at_frame},
                         {"loaded", static_cast<int>(k) < loaded_maps}};
+    if (m.loaded_keyframes > 0) {
+      j["keyframes_loaded"] = m.loaded_keyframes;
+      j["points_loaded"] = m.loaded_points;
+    }
     if (m.eval) j["keyframe_ate_m"] = (*m.eval)["keyframes"]["ape"]["rmse"];
     if (m.map_points > 0) {
       j["bounds"] = {{"min", {m.bounds_min.x(), m.bounds_min.y(), m.bounds_min.z()}},

@@ -7,7 +7,8 @@
 // one run over both laps (0.88 mm; session 2 1.02 mm). It re-uses the map: its points added are
 // under a quarter of those session 1 made (1926 of 35155 made, 19753 live). The loaded keyframes
 // stay where the file has them. A map file read and written again is the same file, and session 2
-// run twice writes the same file (sequential). A map of another camera is refused, naming the file.
+// run twice writes the same file (sequential). The report tells the loaded map's points from the
+// added ones. A map of another camera is refused, naming the file.
 #include <fstream>
 #include <sstream>
 
@@ -16,6 +17,7 @@
 #include "dsm/eval/metrics.h"
 #include "dsm/io/trajectory_io.h"
 #include "dsm/mapfile/map_file.h"
+#include "dsm/report/report.h"
 #include "dsm/run/run.h"
 #include "dsm/synth/sequence_writer.h"
 #include "dsm/testing/test_data.h"
@@ -87,6 +89,15 @@ TEST(Sessions, TheSecondLapRelocalisesInTheSavedMapAndKeepsItsFrame) {
   std::printf("lap 2 in lap 1's alignment: keyframe ATE %.2f mm (both laps in one run: %.2f mm)\n", 1000 * ate,
               1000 * KeyframeAte(both));
   EXPECT_LE(ate, 1.5 * KeyframeAte(both));
+
+  // The report draws the loaded map's points apart (they come first) and numbers session 2's
+  // keyframes after the loaded ones.
+  const nlohmann::json report = ReportData(work / "lap2");
+  const int loaded_keyframes = s1.stats["keyframes"].get<int>();
+  EXPECT_GT(report["maps"][0]["points"]["loaded"].get<int>(), 0.5 * s1.stats["map_points"].get<int>());
+  EXPECT_LT(report["maps"][0]["points"]["loaded"].get<int>(), report["maps"][0]["points"]["count"].get<int>());
+  EXPECT_EQ(report["maps"][0]["keyframes"][0]["id"].get<int>(), loaded_keyframes);
+  EXPECT_EQ(report["summary"]["map_loaded"]["keyframes"].get<int>(), loaded_keyframes);
 
   // The loaded keyframes are where session 1 left them; session 2's follow.
   const MapFile saved1 = ReadMapFile(first.save_map), saved2 = ReadMapFile(second.save_map);
