@@ -13,7 +13,13 @@ MapSet::MapSet(Factory make, Closer close, std::vector<std::unique_ptr<System>> 
     e.system = std::move(system);
     suspended_.push_back(std::move(e));
   }
+  loaded_ = next_id_;
   current_ = NewEntry();
+}
+
+bool MapSet::TrySuspended() const {
+  if (current_status_ != TrackingStatus::kOk) return true;
+  return loaded_ > 0 && !in_loaded_map_ && current_.system->Young();
 }
 
 MapSet::Entry MapSet::NewEntry() {
@@ -51,6 +57,7 @@ std::vector<MapSet::Settled> MapSet::Process(int index, int64_t t_ns, const Imag
       current_.open = false;
       close_(current_.id, *current_.system, current_.spans);
       current_ = std::move(back);
+      in_loaded_map_ = in_loaded_map_ || current_.id < loaded_;
       suspended_.erase(suspended_.begin() + static_cast<long>(w.suspended));
       Note(&current_, w.index);
       Note(&current_, index);
@@ -69,7 +76,7 @@ std::vector<MapSet::Settled> MapSet::Process(int index, int64_t t_ns, const Imag
     out.push_back(TakeCurrent(index, t_ns, image, exposure_ms, wait_until));
     return out;
   }
-  if (current_status_ != TrackingStatus::kOk) {
+  if (TrySuspended()) {
     for (size_t k = suspended_.size(); k-- > 0;) {
       FrameReport r = suspended_[k].system->Process(index, t_ns, image, exposure_ms, wait_until);
       if (r.relocalised) {

@@ -10,7 +10,10 @@
 // mapped) and the map it replaces ends; withdrawn, the current map takes both frames in order.
 // Each frame thus belongs to exactly one map, and a map's frames may come in several spans.
 // Maps loaded from a map file (System::RestoreMap) start as suspended maps, before the first new
-// one: the camera is taken to be in one of them as soon as it relocalises there.
+// one: the camera is taken to be in one of them as soon as it relocalises there. Until it has been
+// in one, they are tried while the current map is young too (System::Young): a map started where
+// the camera is in a known place gives way to the loaded one (the run's first relocalisation there
+// takes a few frames, and the initialiser may be quicker, above all when frames are dropped).
 #pragma once
 
 #include <chrono>
@@ -84,6 +87,10 @@ class MapSet {
   Entry current_;
   std::vector<Entry> suspended_;  // Oldest first.
   TrackingStatus current_status_ = TrackingStatus::kInitializing;  // Of its last frame.
+  int loaded_ = 0;              // Maps loaded from a map file (ids 0 .. loaded_ - 1).
+  bool in_loaded_map_ = false;  // The camera has been in one of them.
+  // Whether the suspended maps are tried for this frame.
+  bool TrySuspended() const;
   std::optional<Waiting> waiting_;
 };
 

@@ -306,6 +306,30 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       std::fflush(stdout);
     }
   }
+  std::optional<std::chrono::steady_clock::time_point> first_posed;  // The current frame's.
+  std::vector<std::optional<MapRun>> ended;  // By map id.
+  std::vector<std::optional<StoredMap>> stored;  // By map id, with --save-map.
+  if (!options.save_map.empty() && fs::is_directory(options.save_map)) {
+    throw InputError(options.save_map.string() + ": --save-map names a folder, not a file");
+  }
+  const auto make_system = [&] {
+    auto system = std::make_unique<System>(undistorter.output(), system_options);
+    system->SetPoseListener([&first_posed](int, const SE3d&) {
+      if (!first_posed) first_posed = std::chrono::steady_clock::now();
+    });
+    return system;
+  };
+  // The maps of a map file are read before the run's clock starts (realtime: before the first
+  // frame is released).
+  std::vector<std::unique_ptr<System>> loaded = LoadMaps(options.load_map, undistorter.output(), make_system);
+  const int loaded_maps = static_cast<int>(loaded.size());
+  nlohmann::json map_loaded;
+  if (!loaded.empty()) {
+    int keyframes = 0, points = 0;
+    for (const auto& system : loaded) keyframes += system->loaded_keyframes(), points += system->loaded_points();
+    map_loaded = {{"file", options.load_map.string()}, {"maps", loaded_maps}, {"keyframes", keyframes},
+                  {"points", points}};
+  }
   const auto process0 = std::chrono::steady_clock::now();
   // Realtime: frame i is released at process0 + (t_i - t_start), as a camera would deliver it.
   const auto release = [&](int i) {
@@ -321,28 +345,6 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   // keeps (after any wait for a keyframe being mapped).
   std::vector<double> latency_ms, latency_final_ms;
   int posed_before_wait = 0;  // Frames told their pose before they waited for a keyframe being mapped.
-  std::optional<std::chrono::steady_clock::time_point> first_posed;  // The current frame's.
-  std::vector<std::optional<MapRun>> ended;  // By map id.
-  std::vector<std::optional<StoredMap>> stored;  // By map id, with --save-map.
-  if (!options.save_map.empty() && fs::is_directory(options.save_map)) {
-    throw InputError(options.save_map.string() + ": --save-map names a folder, not a file");
-  }
-  const auto make_system = [&] {
-    auto system = std::make_unique<System>(undistorter.output(), system_options);
-    system->SetPoseListener([&first_posed](int, const SE3d&) {
-      if (!first_posed) first_posed = std::chrono::steady_clock::now();
-    });
-    return system;
-  };
-  std::vector<std::unique_ptr<System>> loaded = LoadMaps(options.load_map, undistorter.output(), make_system);
-  const int loaded_maps = static_cast<int>(loaded.size());
-  nlohmann::json map_loaded;
-  if (!loaded.empty()) {
-    int keyframes = 0, points = 0;
-    for (const auto& system : loaded) keyframes += system->loaded_keyframes(), points += system->loaded_points();
-    map_loaded = {{"file", options.load_map.string()}, {"maps", loaded_maps}, {"keyframes", keyframes},
-                  {"points", points}};
-  }
   int relocalised_in_loaded_at = -1;  // The first frame a loaded map took.
   MapSet map_set(
       make_system,

@@ -220,6 +220,9 @@ class System {
   // (max_predicted_frames in a map that tracked at most young_map_frames frames): the camera is
   // somewhere the map does not cover, and the caller starts a new map (a new System).
   bool NeedsNewMap() const;
+  // A map that has tracked at most relocalisation.young_map_frames frames: one the run gives up
+  // for a loaded map the camera turns out to be in (run/map_set.h).
+  bool Young() const { return stats_.frames_tracked <= options_.relocalisation.young_map_frames; }
   // The caller started a new map (NeedsNewMap) and keeps this one: frames are still tried against
   // it (Process, relocalisation only) but count in it from the relocalisation the next frame
   // confirms (FrameReport::resumed); until then lost frames leave no trace in its stats and

@@ -86,7 +86,7 @@ void System::WithdrawRelocalisation() {
 bool System::NeedsNewMap() const {
   const RelocalisationOptions& o = options_.relocalisation;
   if (o.max_lost_frames == 0) return false;
-  const bool young = stats_.frames_tracked <= o.young_map_frames;
+  const bool young = Young();
   const int limit = young ? std::max(1, std::min(o.max_lost_frames, o.max_predicted_frames)) : o.max_lost_frames;
   return track_.failed_relocalisations >= limit;
 }

@@ -64,12 +64,14 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
   // a wrong minimum) is found by one frame, not by three that move on smoothly. The step a -> b
   // within the reach of the speed before the loss, the step b -> now within that of the constant
   // velocity a -> b (frames may be missing between them: dropped, or without texture enough).
-  constexpr int kMaxGap = 3;
+  // In a loaded map not yet tracked in this run the gap may be longer: the first search computes
+  // the features of the keyframes it ranks, and a live camera drops the frames meanwhile.
+  const int max_gap = track_.last_trusted_index >= 0 ? 3 : 10;
   if (sightings_.size() < 2) return false;
   const Sighting& a = sightings_[0];
   const Sighting& b = sightings_[1];
   const int n1 = b.index - a.index, n2 = now.index - b.index;
-  if (n1 < 1 || n2 < 1 || n1 > kMaxGap || n2 > kMaxGap) return false;
+  if (n1 < 1 || n2 < 1 || n1 > max_gap || n2 > max_gap) return false;
   const SE3d b_from_a = b.cam_from_world * a.cam_from_world.Inverse();
   const SE3d now_from_b = now.cam_from_world * b.cam_from_world.Inverse();
   // A loaded map not yet tracked in this run has no speed before: the map's own (RestoreMap).

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <vector>
 
+#include <tbb/parallel_for.h>
+
 #include "dsm/system/system.h"
+#include "dsm/tracking/feature_pose.h"
 #include "dsm/util/check.h"
 #include "dsm/util/median.h"
 
@@ -66,6 +69,12 @@ void System::RestoreMap(StoredMap stored) {
                                           stored.texture_level));
   track_.exposure = map_.keyframe(ref).exposure;
   AdoptReference(MakeReference(ref, PointsSeenIn(ref), map_.keyframe(ref).PyramidOrRebuilt()));
+  // The keyframes' ORB features, which relocalisation ranks and poses candidates by, are computed
+  // now rather than on first use: the first frames of the run search the whole map, and a live
+  // camera would drop frames while they are computed.
+  std::vector<OrbFeatures> features(loaded_keyframes_);
+  tbb::parallel_for(0, loaded_keyframes_, [&](int k) { features[k] = DetectOrbFeatures(map_.keyframe(k).Level0(), {}); });
+  for (int k = 0; k < loaded_keyframes_; ++k) keyframe_features_.emplace(k, std::move(features[k]));
   Transition(TrackingEvent::kMapLoaded);
   suspended_ = true;
 }
