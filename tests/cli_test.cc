@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -329,7 +330,32 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
   fs::create_directory_symlink(fs::absolute(dir / "generic" / "images"), dir / "wrong_size" / "images");
   WriteText(dir / "wrong_size" / "camera.yaml",
             "model: pinhole\nwidth: 640\nheight: 480\nintrinsics: [400, 400, 320, 240]\n");
+  // Map files: empty, not a zip, a real one cut short.
+  WriteText(dir / "empty.dsmmap", "");
+  WriteText(dir / "text.dsmmap", "keyframes: 3\n");
+  ASSERT_EQ(RunDsm("run " + (dir / "generic").string() + " --out " + (dir / "g").string() + " --quiet --save-map " +
+                   (dir / "g.dsmmap").string())
+                .code,
+            0);
+  {
+    std::ifstream in(dir / "g.dsmmap", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(dir / "cut.dsmmap", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
   const std::vector<Case> cases = {
+      {"map info " + (dir / "empty.dsmmap").string(), "empty.dsmmap: not a readable zip archive"},
+      {"map info " + (dir / "text.dsmmap").string(), "text.dsmmap: not a readable zip archive"},
+      {"map info " + (dir / "cut.dsmmap").string(), "cut.dsmmap"},
+      {"map info " + dir.string(), dir.string() + ": not a file"},
+      {"map info " + (dir / "none.dsmmap").string(), "none.dsmmap: no such file"},
+      {"run " + (dir / "generic").string() + " --out " + (dir / "o").string() + " --load-map " +
+           (dir / "cut.dsmmap").string(),
+       "cut.dsmmap"},
+      {"run " + (dir / "generic").string() + " --out " + (dir / "o").string() + " --load-map " +
+           (dir / "g.dsmmap").string(),
+       "g.dsmmap: the map file holds no map with keyframes"},
+      {"run " + (dir / "generic").string() + " --out " + (dir / "o").string() + " --save-map " + dir.string(),
+       "--save-map names a folder"},
       {"info " + (dir / "nothing").string(), "not found"},
       {"info " + dir.string(), "cannot detect"},
       {"info " + (dir / "badcam").string(), "intrinsics"},
