@@ -69,7 +69,7 @@ for s in $SEQUENCES; do
       for seed in $SEEDS; do
         seq="$WORK/seq_${s}_seed$seed"
         [ -d "$seq" ] || "$DSM" synth --scene "$s" --seed "$seed" --out "$seq" >/dev/null
-        half=$(($(wc -l <"$seq/times.txt") / 2))
+        half=$(($(grep -vc "^#" "$seq/times.txt") / 2))
         jobs_list+=("${s}_seed$seed|$seq|$seq|--end $half|$seq|--start $half")
       done ;;
   esac
