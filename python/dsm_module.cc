@@ -16,11 +16,13 @@
 #include "dsm/geometry/undistorter.h"
 #include "dsm/io/dataset.h"
 #include "dsm/io/options_io.h"
+#include "dsm/mapfile/map_file.h"
 #include "dsm/mapping/map_points.h"
 #include "dsm/run/frame_reader.h"
 #include "dsm/run/run.h"
 #include "dsm/system/system.h"
 #include "dsm/util/check.h"
+#include "dsm/util/version.h"
 
 namespace py = pybind11;
 
@@ -106,14 +108,63 @@ struct PyFrame {
   std::string error; // ... and why.
 };
 
+// A map file read whole (mapfile/map_file.h): what it holds, and where it came from (a System
+// given it reads its first map from there again).
+struct PyMap {
+  std::string path;
+  MapFile file;
+
+  int Keyframes() const {
+    int n = 0;
+    for (const StoredMap& m : file.maps) n += m.map.NumKeyframes();
+    return n;
+  }
+  int Points() const {
+    int n = 0;
+    for (const StoredMap& m : file.maps) n += m.map.NumLivePoints();
+    return n;
+  }
+};
+
 // The system facade, one thread (each keyframe mapped before process returns: deterministic).
 class PySystem {
  public:
-  PySystem(const py::dict& camera, const py::object& options)
-      : camera_(CameraFrom(camera)), system_(camera_, OptionsFrom(options)) {}
+  PySystem(const py::dict& camera, const py::object& options, const py::object& map)
+      : camera_(CameraFrom(camera)), system_(camera_, OptionsFrom(options)) {
+    if (map.is_none()) return;
+    const PyMap& m = map.cast<const PyMap&>();
+    MapFile file = ReadMapFile(m.path);
+    const PinholeCamera& c = file.camera;
+    if (c.width != camera_.width || c.height != camera_.height || c.fx != camera_.fx || c.fy != camera_.fy ||
+        c.cx != camera_.cx || c.cy != camera_.cy) {
+      throw InputError(m.path + ": the map was made with another camera");
+    }
+    for (StoredMap& stored : file.maps) {
+      if (stored.map.NumKeyframes() == 0) continue;
+      system_.RestoreMap(std::move(stored));
+      return;
+    }
+    throw InputError(m.path + ": the map file holds no map with keyframes");
+  }
+
+  // Writes the map to a map file; the system is done then (its map is handed over).
+  void SaveMap(const std::string& path) {
+    CheckOpen();
+    MapFile file;
+    file.created_by = std::string("dsm ") + kVersion;
+    file.camera = camera_;
+    {
+      py::gil_scoped_release release;
+      file.maps.push_back(system_.TakeStoredMap());
+    }
+    closed_ = true;
+    if (file.maps.back().map.NumKeyframes() == 0) file.maps.clear();
+    WriteMapFile(path, file);
+  }
 
   py::dict Process(int64_t t_ns, const py::array_t<float, py::array::c_style | py::array::forcecast>& image,
                    double exposure_ms) {
+    CheckOpen();
     if (image.ndim() != 2 || image.shape(0) != camera_.height || image.shape(1) != camera_.width) {
       throw InputError("process: image must be a (" + std::to_string(camera_.height) + ", " +
                        std::to_string(camera_.width) + ") array of grey values");
@@ -138,7 +189,10 @@ class PySystem {
     return d;
   }
 
-  void Finish() { system_.Finish(); }
+  void Finish() {
+    CheckOpen();
+    system_.Finish();
+  }
   py::array_t<double> KeyframeTrajectory() const { return TrajectoryArray(system_.KeyframeTrajectory()); }
   py::array_t<double> FrameTrajectory() const { return TrajectoryArray(system_.FrameTrajectory()); }
   py::array_t<double> MapPoints() const {
@@ -151,9 +205,14 @@ class PySystem {
   }
 
  private:
+  void CheckOpen() const {
+    if (closed_) throw InputError("the system's map was saved (save_map): it takes no more frames");
+  }
+
   PinholeCamera camera_;
   System system_;
   int next_index_ = 0;
+  bool closed_ = false;
 };
 
 py::dict Run(const std::string& dataset_path, const std::string& out, const std::string& mode, const std::string& pace,
@@ -234,10 +293,29 @@ PYBIND11_MODULE(dsm, m) {
         "Opens a dataset folder (EuRoC, TUM, KITTI, generic). Indexing or iterating gives Frame objects whose image is "
         "undistorted and photometrically corrected (float32), ready for System.process.");
 
+  py::class_<PyMap>(m, "Map")
+      .def_readonly("path", &PyMap::path)
+      .def_property_readonly("maps", [](const PyMap& p) { return p.file.maps.size(); })
+      .def_property_readonly("keyframes", &PyMap::Keyframes)
+      .def_property_readonly("points", &PyMap::Points, "Live points")
+      .def_property_readonly("camera", [](const PyMap& p) { return CameraDict(p.file.camera); })
+      .def_property_readonly("created_by", [](const PyMap& p) { return p.file.created_by; })
+      .def("save", [](const PyMap& p, const std::string& path) { WriteMapFile(path, p.file); }, py::arg("path"),
+           "Writes the map file again (the same bytes as the file read)")
+      .def("__str__", [](const PyMap& p) { return DescribeMapFile(p.path, p.file); });
+  m.def("load_map", [](const std::string& path) { return std::make_unique<PyMap>(PyMap{path, ReadMapFile(path)}); },
+        py::arg("path"),
+        "Reads a map file (dsm run --save-map, System.save_map) whole; InputError naming it when it is not a valid "
+        "one");
+
   py::class_<PySystem>(m, "System")
-      .def(py::init<const py::dict&, const py::object&>(), py::arg("camera"), py::arg("options") = py::none(),
+      .def(py::init<const py::dict&, const py::object&, const py::object&>(), py::arg("camera"),
+           py::arg("options") = py::none(), py::arg("map") = py::none(),
            "camera: dict width, height, fx, fy, cx, cy (an undistorted pinhole camera, e.g. Dataset.camera); "
-           "options: dict of option sections")
+           "options: dict of option sections; map: a Map (load_map) whose first map the system starts in: it "
+           "relocalises there (three frames that agree, a fourth that confirms) and goes on in its frame and scale")
+      .def("save_map", &PySystem::SaveMap, py::arg("path"),
+           "Writes the system's map to a map file (after all its mapping); the system takes no frames after")
       .def("process", &PySystem::Process, py::arg("t_ns"), py::arg("image"), py::arg("exposure_ms") = 0.0,
            "Tracks (and maps) one frame: image (height, width), grey values; returns status, keyframe, ...")
       .def("finish", &PySystem::Finish)

@@ -80,6 +80,24 @@ def test_run_saves_and_loads_maps(synthetic_run, tmp_path):
     with pytest.raises(dsm.InputError, match="nothing.dsmmap"):
         dsm.run(scene, out=str(tmp_path / "s3"), load_map=str(tmp_path / "nothing.dsmmap"))
 
+    # The same through Map and System: read, written again byte for byte, taken up by a System that
+    # relocalises in it and extends it.
+    saved = dsm.load_map(str(tmp_path / "a.dsmmap"))
+    assert saved.maps == 1 and saved.keyframes == first["keyframes"]
+    assert saved.points == first["map_points"]
+    saved.save(str(tmp_path / "b.dsmmap"))
+    assert (tmp_path / "b.dsmmap").read_bytes() == (tmp_path / "a.dsmmap").read_bytes()
+    dataset = dsm.read_dataset(scene)
+    system = dsm.System(dataset.camera, map=saved)
+    reports = [system.process(dataset[i].t_ns, dataset[i].image) for i in range(60, 90)]
+    first_ok = next(r["index"] for r in reports if r["status"] == "ok")
+    assert first_ok <= 3  # The fourth frame at the latest (indices count from the System's first frame).
+    assert sum(r["keyframe"] for r in reports) > 0
+    system.save_map(str(tmp_path / "c.dsmmap"))
+    assert dsm.load_map(str(tmp_path / "c.dsmmap")).keyframes > saved.keyframes
+    with pytest.raises(dsm.InputError, match="save_map"):
+        system.process(dataset[90].t_ns, dataset[90].image)
+
 
 def test_bad_input_raises_with_dsm_message(synthetic_run, tmp_path):
     out, _ = synthetic_run
