@@ -8,7 +8,8 @@ import subprocess
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 # The sections docs/results.md must have and the script that writes each; any further section
 # named ablation-* is also ablation.sh's (`--section`).
-SECTIONS = {"accuracy": "ablation.sh", "benchmark": "benchmark.sh", "defects": "defects.sh", "ablation": "ablation.sh"}
+SECTIONS = {"accuracy": "ablation.sh", "benchmark": "benchmark.sh", "defects": "defects.sh", "ablation": "ablation.sh",
+            "sessions": "sessions.sh"}
 
 
 def sections_of(text):
