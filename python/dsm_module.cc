@@ -133,18 +133,7 @@ class PySystem {
       : camera_(CameraFrom(camera)), system_(camera_, OptionsFrom(options)) {
     if (map.is_none()) return;
     const PyMap& m = map.cast<const PyMap&>();
-    MapFile file = ReadMapFile(m.path);
-    const PinholeCamera& c = file.camera;
-    if (c.width != camera_.width || c.height != camera_.height || c.fx != camera_.fx || c.fy != camera_.fy ||
-        c.cx != camera_.cx || c.cy != camera_.cy) {
-      throw InputError(m.path + ": the map was made with another camera");
-    }
-    for (StoredMap& stored : file.maps) {
-      if (stored.map.NumKeyframes() == 0) continue;
-      system_.RestoreMap(std::move(stored));
-      return;
-    }
-    throw InputError(m.path + ": the map file holds no map with keyframes");
+    system_.RestoreMap(std::move(MapsToTakeUp(m.path, ReadMapFile(m.path), camera_).front()));
   }
 
   // Writes the map to a map file; the system is done then (its map is handed over).

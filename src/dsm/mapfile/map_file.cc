@@ -482,13 +482,33 @@ MapFile ReadMapFile(const std::filesystem::path& path) {
   return file;
 }
 
+std::string CameraText(const PinholeCamera& c) {
+  std::ostringstream out;
+  out << c.width << "x" << c.height << " pinhole, fx " << c.fx << " fy " << c.fy << " cx " << c.cx << " cy " << c.cy;
+  return out.str();
+}
+
+std::vector<StoredMap> MapsToTakeUp(const std::filesystem::path& path, MapFile file, const PinholeCamera& camera) {
+  const PinholeCamera& c = file.camera;
+  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b)); };
+  if (c.width != camera.width || c.height != camera.height || !near(c.fx, camera.fx) || !near(c.fy, camera.fy) ||
+      !near(c.cx, camera.cx) || !near(c.cy, camera.cy)) {
+    throw InputError(path.string() + ": the map was made with another camera (" + CameraText(c) +
+                     "; this one is " + CameraText(camera) + ")");
+  }
+  std::vector<StoredMap> maps;
+  for (StoredMap& stored : file.maps)
+    if (stored.map.NumKeyframes() > 0) maps.push_back(std::move(stored));
+  if (maps.empty()) throw InputError(path.string() + ": the map file holds no map with keyframes");
+  return maps;
+}
+
 std::string DescribeMapFile(const std::filesystem::path& path, const MapFile& file) {
   std::ostringstream out;
   out << "map file:   " << path.string() << "\n";
   out << "format:     " << kFormat << " version " << kMapFileVersion << ", written by " << file.created_by << "\n";
   const PinholeCamera& c = file.camera;
-  out << "camera:     " << c.width << "x" << c.height << " pinhole, fx " << c.fx << " fy " << c.fy << " cx " << c.cx
-      << " cy " << c.cy << "\n";
+  out << "camera:     " << CameraText(c) << "\n";
   out << "maps:       " << file.maps.size() << "\n";
   for (size_t i = 0; i < file.maps.size(); ++i) {
     const Map& map = file.maps[i].map;

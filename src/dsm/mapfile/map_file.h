@@ -68,6 +68,14 @@ void WriteMapFile(const std::filesystem::path& path, const MapFile& file);
 // Reads a map file; throws InputError naming the path (see above) when it is not a valid one.
 MapFile ReadMapFile(const std::filesystem::path& path);
 
+// The maps of `file` (read from `path`) that a run with the undistorted `camera` takes up: those
+// with keyframes, in order. InputError naming `path` when the file was made with another camera
+// (another size, or intrinsics that differ by more than 1e-6 relative) or holds no such map.
+std::vector<StoredMap> MapsToTakeUp(const std::filesystem::path& path, MapFile file, const PinholeCamera& camera);
+
+// "WxH pinhole, fx .. fy .. cx .. cy ..", as messages and `dsm map info` name a camera.
+std::string CameraText(const PinholeCamera& camera);
+
 // `dsm map info`: format, version, creator, camera, and per map its keyframes, live points,
 // observations, the keyframes' frame range and the box around the live points (world).
 std::string DescribeMapFile(const std::filesystem::path& path, const MapFile& file);

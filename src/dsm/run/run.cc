@@ -222,25 +222,14 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
 }
 
 // RunOptions::load_map: its maps, each taken up by a System of `make`; none without a file.
-// InputError naming the file when it holds no map or was made with another camera.
 template <typename Make>
 std::vector<std::unique_ptr<System>> LoadMaps(const fs::path& file, const PinholeCamera& camera, const Make& make) {
   std::vector<std::unique_ptr<System>> systems;
   if (file.empty()) return systems;
-  MapFile loaded = ReadMapFile(file);
-  const PinholeCamera& c = loaded.camera;
-  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b)); };
-  if (c.width != camera.width || c.height != camera.height || !near(c.fx, camera.fx) || !near(c.fy, camera.fy) ||
-      !near(c.cx, camera.cx) || !near(c.cy, camera.cy)) {
-    throw InputError(file.string() + ": the map was made with another camera (" + CameraJson(c).dump() +
-                     "; this recording's undistorted camera is " + CameraJson(camera).dump() + ")");
-  }
-  for (StoredMap& stored : loaded.maps) {
-    if (stored.map.NumKeyframes() == 0) continue;
+  for (StoredMap& stored : MapsToTakeUp(file, ReadMapFile(file), camera)) {
     systems.push_back(make());
     systems.back()->RestoreMap(std::move(stored));
   }
-  if (systems.empty()) throw InputError(file.string() + ": the map file holds no map with keyframes");
   return systems;
 }
 
@@ -377,12 +366,13 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     if (debug) debug->AddFrame(r, s.map);
     if (debug && r.keyframe && s.map == 0) debug->AddKeyframes(map_set.current());  // The first map's.
     // Events: tracking lost (once per episode), regained, and a map the camera came back to.
-    if (r.status == TrackingStatus::kOk && s.map < loaded_maps && relocalised_in_loaded_at < 0) {
-      relocalised_in_loaded_at = i;
+    // The first frame in a loaded map is told as such, and the next one, which confirms it, not again.
+    const bool first_in_loaded = r.status == TrackingStatus::kOk && s.map < loaded_maps && relocalised_in_loaded_at < 0;
+    if (first_in_loaded) relocalised_in_loaded_at = i;
+    const bool confirms_first_in_loaded = r.resumed && s.map < loaded_maps && i == relocalised_in_loaded_at + 1;
+    if (first_in_loaded) {
       progress.Event("frame " + std::to_string(i) + "  relocalised in the loaded map " + std::to_string(s.map));
-    } else if (r.resumed && s.map < loaded_maps && r.index == relocalised_in_loaded_at + 1) {
-      // The relocalisation's confirmation, told with it.
-    } else if (r.resumed) {
+    } else if (r.resumed && !confirms_first_in_loaded) {
       progress.Event("frame " + std::to_string(i) + "  back in map " + std::to_string(s.map) + " (relocalised)");
     } else if (r.relocalised || (r.status == TrackingStatus::kLost && last_status != TrackingStatus::kLost)) {
       progress.Event("frame " + std::to_string(i) + "  " + (r.relocalised ? "relocalised" : "tracking lost") +
@@ -620,9 +610,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   }
   // Maps counted: those that took part (a new map that never started while the camera
   // relocalised in a loaded one does not).
-  const size_t maps_made = std::count_if(maps.begin(), maps.end(), [&](const MapRun& m) {
-    return m.stats.keyframes > 0 || &m - maps.data() < loaded_maps;
-  });
+  const size_t maps_made = std::count_if(maps.begin(), maps.end(),
+                                         [](const MapRun& m) { return m.stats.keyframes > 0 || m.loaded_keyframes > 0; });
   if (maps_made > 1) summary.line += ", " + std::to_string(maps_made) + " maps";
   nlohmann::json map_list = nlohmann::json::array();
   for (size_t k = 0; k < maps.size(); ++k) {
@@ -639,7 +628,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                         {"last_frame", m.last_frame}, {"spans", m.spans}, {"frames_tracked", m.stats.frames_tracked},
                         {"keyframes", m.stats.keyframes}, {"map_points", m.map_points},
                         {"initialized_at_frame", m.stats.initialized_at_frame},
-                        {"loaded", static_cast<int>(k) < loaded_maps}};
+                        {"loaded", m.loaded_keyframes > 0}};
     if (m.loaded_keyframes > 0) {
       j["keyframes_loaded"] = m.loaded_keyframes;
       j["points_loaded"] = m.loaded_points;

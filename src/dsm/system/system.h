@@ -349,6 +349,9 @@ class System {
   // The frame's pose and brightness relative to the reference become the last trusted ones; the
   // velocity is the step from the last trusted frame per frame, or `velocity` when given.
   void CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity);
+  // Whether a frame was trusted in this run: not so in a loaded map before the camera is found in
+  // it (RestoreMap), where there is nothing to predict from.
+  bool HasTrustedFrame() const { return track_.last_trusted_index >= 0; }
   // Frames from the last trusted frame to `index` (at least 1): index steps, or the frame
   // intervals between their timestamps when more (a gap in the recording).
   int FramesSinceTrusted(int index) const;

@@ -12,7 +12,7 @@
 namespace dsm {
 
 int System::FramesSinceTrusted(int index) const {
-  if (track_.last_trusted_index < 0) return 1;
+  if (!HasTrustedFrame()) return 1;
   int frames = std::max(1, index - track_.last_trusted_index);
   // A gap in the recording's timestamps (frames missing from it) counts as the frames that would
   // have filled it: the camera moved on meanwhile.

@@ -66,7 +66,7 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
   // velocity a -> b (frames may be missing between them: dropped, or without texture enough).
   // In a loaded map not yet tracked in this run the gap may be longer: the first search computes
   // the features of the keyframes it ranks, and a live camera drops the frames meanwhile.
-  const int max_gap = track_.last_trusted_index >= 0 ? 3 : 10;
+  const int max_gap = HasTrustedFrame() ? 3 : 10;
   if (sightings_.size() < 2) return false;
   const Sighting& a = sightings_[0];
   const Sighting& b = sightings_[1];
@@ -75,7 +75,7 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
   const SE3d b_from_a = b.cam_from_world * a.cam_from_world.Inverse();
   const SE3d now_from_b = now.cam_from_world * b.cam_from_world.Inverse();
   // A loaded map not yet tracked in this run has no speed before: the map's own (RestoreMap).
-  const double speed = track_.last_trusted_index >= 0 ? track_.velocity.Translation().norm() : loaded_speed_;
+  const double speed = HasTrustedFrame() ? track_.velocity.Translation().norm() : loaded_speed_;
   if (!track_.quality.CheckSpeed(b_from_a, n1, speed, mean_idepth).empty()) return false;
   return track_.quality.CheckJump(now_from_b, n2, internal::Scale(b_from_a, 1.0 / n1), mean_idepth).empty();
 }
@@ -253,7 +253,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   };
   // A loaded map not yet tracked in this run (RestoreMap) has no trusted frame to predict from or
   // to measure a step against: its frames relocalise by three sightings alone.
-  const bool trusted = track_.last_trusted_index >= 0;
+  const bool trusted = HasTrustedFrame();
   const bool predicted = trusted && plain.empty() && since <= options_.relocalisation.max_predicted_frames;
   // Why not, as told: the failure of the attempt with the most of its keyframe's points in view,
   // not of the last one tried (often a keyframe that does not see the place at all, whose "too few
