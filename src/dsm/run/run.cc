@@ -645,8 +645,16 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     summary.stats["map_loaded"] = map_loaded;
     summary.stats["relocalised_in_loaded_map_at_frame"] =
         relocalised_in_loaded_at >= 0 ? nlohmann::json(relocalised_in_loaded_at) : nlohmann::json(nullptr);
-    summary.stats["keyframes_added"] = s.keyframes;
-    summary.stats["points_added"] = s.points_created;
+    // What this run added to the loaded maps (a new map that started meanwhile has its own row in
+    // `maps`).
+    int keyframes_added = 0, points_added = 0;
+    for (const MapRun& m : maps) {
+      if (m.loaded_keyframes == 0) continue;
+      keyframes_added += m.stats.keyframes;
+      points_added += m.stats.points_created;
+    }
+    summary.stats["keyframes_added"] = keyframes_added;
+    summary.stats["points_added"] = points_added;
     summary.line += relocalised_in_loaded_at >= 0
                         ? "; relocalised in the loaded map at frame " + std::to_string(relocalised_in_loaded_at)
                         : "; never relocalised in the loaded map";
