@@ -23,7 +23,7 @@ Command AddRun(CLI::App& app) {
     std::optional<int> nt, nc, pba_levels;
     bool print_config = false;
     bool quiet = false, no_map = false, no_report = false, global_ba = false, truth_ba = false, sequential = false,
-         realtime = false;
+         realtime = false, localize = false;
     std::string save_map, load_map;
     GtArgs gt;
     VideoArgs video;
@@ -66,6 +66,10 @@ Command AddRun(CLI::App& app) {
   app.add_option("--load-map", a->load_map,
                  "Start in the maps of this map file (dsm run --save-map): relocalise in them where the camera "
                  "starts in a known place, track and extend them in their frame and scale; a new map elsewhere");
+  app.add_flag("--localize", a->localize,
+               "With --load-map: localise in its maps without changing them; keyframes made where the camera "
+               "leaves the mapped area are temporary and retired once it is back (--save-map then writes the "
+               "loaded maps unchanged)");
   app.add_flag("--view", a->view,
                "Live viewer: serve the report page on localhost while the run goes on (map, camera and "
                "statistics pushed over a WebSocket); its address is printed");
@@ -124,6 +128,7 @@ Command AddRun(CLI::App& app) {
     options.write_report = !a->no_report;
     options.save_map = a->save_map;
     options.load_map = a->load_map;
+    options.localize = a->localize;
     if (a->port < 0 || a->port > 65535) throw InputError("--port must be 0..65535");
     options.view_port = a->view ? a->port : -1;
     if (!(a->view_wait >= 0.0) || a->view_wait > 86400.0) throw InputError("--view-wait must be 0..86400 seconds");

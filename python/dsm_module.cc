@@ -129,11 +129,18 @@ struct PyMap {
 // The system facade, one thread (each keyframe mapped before process returns: deterministic).
 class PySystem {
  public:
-  PySystem(const py::dict& camera, const py::object& options, const py::object& map)
+  PySystem(const py::dict& camera, const py::object& options, const py::object& map, bool localize)
       : camera_(CameraFrom(camera)), system_(camera_, OptionsFrom(options)) {
-    if (map.is_none()) return;
+    options_yaml_ = OptionsYaml(OptionsFrom(options));
+    if (map.is_none()) {
+      if (localize) throw InputError("System: localize needs a map to localise in (map=load_map(...))");
+      return;
+    }
     const PyMap& m = map.cast<const PyMap&>();
-    system_.RestoreMap(std::move(MapsToTakeUp(m.path, ReadMapFile(m.path), camera_).front()));
+    // Localising, the map saved is the loaded one, as the options of its own run made it.
+    if (localize) options_yaml_ = m.file.options;
+    system_.RestoreMap(std::move(MapsToTakeUp(m.path, ReadMapFile(m.path), camera_).front()),
+                       localize ? System::LoadedMapUse::kLocalize : System::LoadedMapUse::kExtend);
   }
 
   // Writes the map to a map file; the system is done then (its map is handed over).
@@ -142,6 +149,7 @@ class PySystem {
     MapFile file;
     file.created_by = std::string("dsm ") + kVersion;
     file.camera = camera_;
+    file.options = options_yaml_;
     {
       py::gil_scoped_release release;
       file.maps.push_back(system_.TakeStoredMap());
@@ -199,6 +207,7 @@ class PySystem {
   }
 
   PinholeCamera camera_;
+  std::string options_yaml_;  // The map file's options (MapFile::options).
   System system_;
   int next_index_ = 0;
   bool closed_ = false;
@@ -206,7 +215,7 @@ class PySystem {
 
 py::dict Run(const std::string& dataset_path, const std::string& out, const std::string& mode, const std::string& pace,
              int start, int end, bool global_ba, bool write_map, bool write_report, const py::object& options,
-             bool quiet, const std::string& load_map, const std::string& save_map) {
+             bool quiet, const std::string& load_map, const std::string& save_map, bool localize) {
   RunOptions o;
   o.system = OptionsFrom(options);
   o.system.mode = ParseMapMode(mode, "mode");
@@ -219,6 +228,7 @@ py::dict Run(const std::string& dataset_path, const std::string& out, const std:
   o.quiet = quiet;
   o.load_map = load_map;
   o.save_map = save_map;
+  o.localize = localize;
   const Dataset dataset = OpenDataset(dataset_path);
   RunSummary summary;
   {
@@ -241,11 +251,11 @@ PYBIND11_MODULE(dsm, m) {
   m.def("run", &Run, py::arg("dataset"), py::kw_only(), py::arg("out") = "dsm_out", py::arg("mode") = "dsm",
         py::arg("pace") = "sequential", py::arg("start") = 0, py::arg("end") = -1, py::arg("global_ba") = false,
         py::arg("write_map") = true, py::arg("write_report") = true, py::arg("options") = py::none(),
-        py::arg("quiet") = true, py::arg("load_map") = "", py::arg("save_map") = "",
+        py::arg("quiet") = true, py::arg("load_map") = "", py::arg("save_map") = "", py::arg("localize") = false,
         "Runs SLAM over a dataset folder or video as `dsm run` does (default pace: sequential, deterministic) and "
         "returns stats.json as a dict (with 'eval' when the dataset has ground truth). `options`: a dict of option "
-        "sections, as in a --config file, e.g. {'window': {'temporal_keyframes': 5}}. `load_map`, `save_map`: map "
-        "files, as --load-map and --save-map.");
+        "sections, as in a --config file, e.g. {'window': {'temporal_keyframes': 5}}. `load_map`, `save_map`, "
+        "`localize`: as --load-map, --save-map and --localize.");
 
   py::class_<PyFrame>(m, "Frame")
       .def_readonly("index", &PyFrame::index)
@@ -298,11 +308,13 @@ PYBIND11_MODULE(dsm, m) {
         "one");
 
   py::class_<PySystem>(m, "System")
-      .def(py::init<const py::dict&, const py::object&, const py::object&>(), py::arg("camera"),
-           py::arg("options") = py::none(), py::arg("map") = py::none(),
+      .def(py::init<const py::dict&, const py::object&, const py::object&, bool>(), py::arg("camera"),
+           py::arg("options") = py::none(), py::arg("map") = py::none(), py::arg("localize") = false,
            "camera: dict width, height, fx, fy, cx, cy (an undistorted pinhole camera, e.g. Dataset.camera); "
            "options: dict of option sections; map: a Map (load_map) whose first map the system starts in: it "
-           "relocalises there (three frames that agree, a fourth that confirms) and goes on in its frame and scale")
+           "relocalises there (three frames that agree, a fourth that confirms) and goes on in its frame and scale, "
+           "extending it, or with localize=True leaving it unchanged (its keyframes are then temporary, and "
+           "save_map writes the map as it was loaded)")
       .def("save_map", &PySystem::SaveMap, py::arg("path"),
            "Writes the system's map to a map file (after all its mapping); the system takes no frames after")
       .def("process", &PySystem::Process, py::arg("t_ns"), py::arg("image"), py::arg("exposure_ms") = 0.0,

@@ -356,6 +356,8 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
        "g.dsmmap: the map file holds no map with keyframes"},
       {"run " + (dir / "generic").string() + " --out " + (dir / "o").string() + " --save-map " + dir.string(),
        "--save-map names a folder"},
+      {"run " + (dir / "generic").string() + " --out " + (dir / "o").string() + " --localize",
+       "--localize needs a map to localise in (--load-map)"},
       {"info " + (dir / "nothing").string(), "not found"},
       {"info " + dir.string(), "cannot detect"},
       {"info " + (dir / "badcam").string(), "intrinsics"},

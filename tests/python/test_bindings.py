@@ -98,6 +98,19 @@ def test_run_saves_and_loads_maps(synthetic_run, tmp_path):
     with pytest.raises(dsm.InputError, match="save_map"):
         system.process(dataset[90].t_ns, dataset[90].image)
 
+    # Localising in it (localize=True): tracked the same way, the map given back as it was loaded.
+    local = dsm.System(dataset.camera, map=saved, localize=True)
+    reports = [local.process(dataset[i].t_ns, dataset[i].image) for i in range(60, 90)]
+    assert next(r["index"] for r in reports if r["status"] == "ok") <= 3
+    local.save_map(str(tmp_path / "d.dsmmap"))
+    assert (tmp_path / "d.dsmmap").read_bytes() == (tmp_path / "a.dsmmap").read_bytes()
+    localized = dsm.run(scene, out=str(tmp_path / "s4"), start=60, write_report=False,
+                        load_map=str(tmp_path / "a.dsmmap"), localize=True, save_map=str(tmp_path / "e.dsmmap"))
+    assert localized["localize"] and 60 <= localized["relocalised_in_loaded_map_at_frame"] <= 63
+    assert (tmp_path / "e.dsmmap").read_bytes() == (tmp_path / "a.dsmmap").read_bytes()
+    with pytest.raises(dsm.InputError, match="localize"):
+        dsm.System(dataset.camera, localize=True)
+
 
 def test_bad_input_raises_with_dsm_message(synthetic_run, tmp_path):
     out, _ = synthetic_run

@@ -55,6 +55,7 @@ int Map::LoadPyramids(const std::vector<int>& ids) {
   std::vector<Keyframe*> missing;
   for (int id : ids) {
     Keyframe& kf = *keyframes_[id];
+    DSM_CHECK(!kf.retired, "a retired keyframe's pyramid is never used");
     if (kf.pyramid == nullptr && std::find(missing.begin(), missing.end(), &kf) == missing.end()) missing.push_back(&kf);
     kf.pyramid_used = epoch_;
   }
@@ -78,6 +79,27 @@ int Map::ReleaseUnusedPyramids(int keep_epochs) {
   }
   ++epoch_;
   return released;
+}
+
+void Map::Retire(int id) {
+  Keyframe& kf = *keyframes_[id];
+  for (int pid : kf.points) points_[pid].removed = true;
+  kf.points.clear();
+  for (Point& p : points_)
+    std::erase_if(p.observations, [id](const Observation& o) { return o.target == id; });
+  kf.pyramid.reset();
+  kf.image = Image<uint16_t>();
+  kf.retired = true;
+}
+
+void Map::KeepFirst(int keyframes, int points) {
+  DSM_CHECK(keyframes <= NumKeyframes() && points <= NumPoints(), "a map keeps what it has");
+  keyframes_.resize(keyframes);
+  points_.resize(points);
+  for (Point& p : points_)
+    std::erase_if(p.observations, [keyframes](const Observation& o) { return o.target >= keyframes; });
+  for (auto& kf : keyframes_)
+    std::erase_if(kf->points, [points](int pid) { return pid >= points; });
 }
 
 int Map::NumLoadedPyramids() const {

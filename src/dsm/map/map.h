@@ -76,6 +76,13 @@ struct Keyframe {
   // The most observations (hosted or observed) that tied its pose in a bundle adjustment that
   // moved it (pba_selection.h: a later solve with far fewer holds it).
   int most_pba_links = 0;
+  // Runtime state, not stored in map files. Frozen: part of a map the run localises in
+  // (System::RestoreMap with LoadedMapUse::kLocalize); no adjustment changes its pose, brightness
+  // or error model, nor its points' depths or their observations in other frozen keyframes
+  // (pba_selection.h). Retired: a keyframe the map no longer uses (System::Retire); it keeps its
+  // pose for the trajectory but no image, points or observations.
+  bool frozen = false;
+  bool retired = false;
 
   const ImagePyramid& Pyramid() const {
     DSM_CHECK(pyramid != nullptr, "keyframe pyramid used without Map::LoadPyramids");
@@ -108,6 +115,14 @@ class Map {
   Keyframe& RestoreKeyframe(std::unique_ptr<Keyframe> keyframe);
   void RestorePoint(Point point);
 
+  // Keyframe `id` leaves the map for good (Keyframe::retired): its points are removed, every
+  // observation in it is dropped, its pyramid and image are released; its pose stays.
+  void Retire(int id);
+  // Back to the map's first `keyframes` keyframes and `points` points, as they were taken up
+  // before a run that changed nothing of them (Keyframe::frozen) added the rest: the others go,
+  // with every observation in them.
+  void KeepFirst(int keyframes, int points);
+
   Keyframe& keyframe(int id) { return *keyframes_[id]; }
   const Keyframe& keyframe(int id) const { return *keyframes_[id]; }
   Point& point(int id) { return points_[id]; }
@@ -119,7 +134,8 @@ class Map {
   // Memory: a keyframe keeps its pyramid only while it is used. LoadPyramids rebuilds the missing
   // pyramids of `ids` from their images and marks them used in the current epoch;
   // ReleaseUnusedPyramids ends an epoch (one mapped keyframe) and drops the pyramids not used in
-  // the last `keep_epochs` epochs. Returns how many it rebuilt / dropped.
+  // the last `keep_epochs` epochs. Returns how many it rebuilt / dropped. A retired keyframe has
+  // neither image nor pyramid and is never loaded.
   int LoadPyramids(const std::vector<int>& ids);
   int ReleaseUnusedPyramids(int keep_epochs);
   int NumLoadedPyramids() const;

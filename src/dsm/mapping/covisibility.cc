@@ -17,7 +17,7 @@ CovisibleSelection SelectCovisibleKeyframes(const Map& map, const PinholeCamera&
   const int newest = temporal.back();
   std::vector<int> old;
   for (int k = 0; k < map.NumKeyframes(); ++k)
-    if (std::find(temporal.begin(), temporal.end(), k) == temporal.end()) old.push_back(k);
+    if (!map.keyframe(k).retired && std::find(temporal.begin(), temporal.end(), k) == temporal.end()) old.push_back(k);
 
   // Projections of every old keyframe's usable points into the newest keyframe (independent per
   // keyframe: parallel and deterministic).

@@ -212,8 +212,10 @@ double Problem::LinearizePoint(size_t i, std::vector<PairAccumulator>* pairs, No
         r(k) = rk;
       }
     }
-    block->H_pp += Jr.dot(w.asDiagonal() * Jr);
-    block->b_p += Jr.dot(w.asDiagonal() * r);
+    if (!ps.frozen) {  // A frozen point's H_pp stays 0: SolveSchur leaves its depth alone.
+      block->H_pp += Jr.dot(w.asDiagonal() * Jr);
+      block->b_p += Jr.dot(w.asDiagonal() * r);
+    }
     if (g.slot < 0) continue;
     // Camera blocks and the point's coupling to the free keyframes (a fixed one's would be
     // dropped by the Schur complement and multiply a zero step in the back-substitution).
@@ -222,6 +224,7 @@ double Problem::LinearizePoint(size_t i, std::vector<PairAccumulator>* pairs, No
     PairAccumulator& acc = (*pairs)[o.acc];
     Vector10 h_xp;
     AccumulateObservation(Jx.data(), w.data(), r.data(), Jr.data(), acc.H.data(), acc.b.data(), h_xp.data());
+    if (ps.frozen) continue;
     if (!fixed_[ps.host]) NormalEquations::AddCoupling(block, ps.host, g.A_host.transpose() * h_xp);
     if (!fixed_[o.target]) NormalEquations::AddCoupling(block, o.target, g.A_target.transpose() * h_xp);
   }

@@ -27,6 +27,7 @@ Problem::Problem(Map* map, const PinholeCamera& camera, const std::vector<int>& 
     PointState ps;
     ps.id = po.id;
     ps.host = po.host;
+    ps.frozen = map->keyframe(cams_[po.host]).frozen;
     for (int t : po.targets) ps.obs.push_back({t});
     points_.push_back(std::move(ps));
   }
@@ -136,7 +137,7 @@ bool Problem::Apply(const Solution& step) {
   double mean_idepth = 0.0;
   for (size_t i = 0; i < points_.size(); ++i) {
     float& rho = map_->point(points_[i].id).idepth;
-    rho = std::max(1e-4f, rho + static_cast<float>(step.points(i)));
+    if (!points_[i].frozen) rho = std::max(1e-4f, rho + static_cast<float>(step.points(i)));
     mean_idepth += rho;
   }
   mean_idepth /= std::max<size_t>(1, points_.size());
@@ -229,8 +230,14 @@ void Problem::UpdatePairs() {
 
 // Fits the error models (pba_models.h) and stores the fitted ones in their keyframes.
 void Problem::FitFromChunks(const std::vector<std::vector<std::vector<float>>>& chunk_residuals) {
-  for (int c : FitPbaModels(chunk_residuals, cams_, fixed_, options_, &models_))
-    map_->keyframe(cams_[c]).error_model = models_[c];
+  for (int c : FitPbaModels(chunk_residuals, cams_, fixed_, options_, &models_)) {
+    Keyframe& k = map_->keyframe(cams_[c]);
+    if (k.frozen) {
+      models_[c] = k.error_model;
+    } else {
+      k.error_model = models_[c];
+    }
+  }
 }
 
 }  // namespace dsm::internal

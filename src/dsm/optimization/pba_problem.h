@@ -60,6 +60,7 @@ struct ObsState {
 struct PointState {
   int id = -1;
   int host = -1;  // Problem camera index.
+  bool frozen = false;  // Hosted by a frozen keyframe (Keyframe::frozen): its depth stays.
   HostPatch patch;
   bool patch_ok = false;
   std::vector<ObsState> obs;

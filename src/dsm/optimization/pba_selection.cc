@@ -17,7 +17,7 @@ PbaSelection SelectPbaProblem(const Map& map, const std::vector<int>& active, co
     if (index[id] >= 0) continue;
     index[id] = static_cast<int>(s.cams.size());
     s.cams.push_back(id);
-    s.fixed.push_back(id == 0 || is_held[id]);
+    s.fixed.push_back(id == 0 || is_held[id] || map.keyframe(id).frozen);
   }
   const size_t num_active = s.cams.size();
   // The observations that may enter the problem, per point of the active keyframes: f(host
@@ -29,14 +29,16 @@ PbaSelection SelectPbaProblem(const Map& map, const std::vector<int>& active, co
       for (int pid : map.keyframe(s.cams[c]).points) {
         const Point& p = map.point(pid);
         if (p.removed) continue;
+        const bool frozen = map.keyframe(s.cams[c]).frozen;
+        const auto usable = [&](const Observation& o) { return !o.outlier && !(frozen && map.keyframe(o.target).frozen); };
         int skip = 0;
         if (is_held[s.cams[c]]) {
-          for (const Observation& o : p.observations) skip += !o.outlier && !is_active[o.target];
+          for (const Observation& o : p.observations) skip += usable(o) && !is_active[o.target];
           skip -= options.max_outside_observations;  // The oldest ones are left out.
         }
         kept.clear();
         for (const Observation& o : p.observations)
-          if (!o.outlier && (is_active[o.target] || skip-- <= 0)) kept.push_back(&o);
+          if (usable(o) && (is_active[o.target] || skip-- <= 0)) kept.push_back(&o);
         f(c, pid, kept);
       }
     }
@@ -66,7 +68,7 @@ PbaSelection SelectPbaProblem(const Map& map, const std::vector<int>& active, co
       if (index[o->target] < 0) {  // Observed but not active: in the problem, fixed.
         index[o->target] = static_cast<int>(s.cams.size());
         s.cams.push_back(o->target);
-        s.fixed.push_back(true);
+        s.fixed.push_back(true);  // Frozen or not.
       }
       po.targets.push_back(index[o->target]);
     }

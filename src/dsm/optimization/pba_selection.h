@@ -10,7 +10,9 @@
 // (Keyframe::most_pba_links, which RunPba raises to `links` for the free cameras). A point of a held
 // keyframe keeps its observations in active keyframes and the newest `max_outside_observations`
 // outside them (they join two fixed poses and constrain only its depth); a point of another
-// active keyframe keeps all its observations.
+// active keyframe keeps all its observations. A frozen keyframe (Keyframe::frozen) is fixed, and
+// its points keep only their observations in keyframes that are not frozen: the others join two
+// fixed poses and a fixed depth, a constant the adjustment cannot change.
 #pragma once
 
 #include <vector>

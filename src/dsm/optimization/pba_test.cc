@@ -116,6 +116,53 @@ TEST(Pba, HeldKeyframesKeepTheirPosesWhileTheirPointsMove) {
   EXPECT_LT(s.final_energy, s.initial_energy);
 }
 
+// Localisation in a loaded map: the frozen keyframes (0-2, where the true poses and depths put
+// them) are the reference the free one (3, moved ~1 cm) is adjusted onto; nothing of them changes:
+// poses, brightness, error models, depths and their observations' outlier state.
+TEST(Pba, FrozenKeyframesAndTheirPointsStayWhileTheOthersAreAdjusted) {
+  World w;
+  BuildWorld({0, 6, 12, 18}, &w);
+  Eigen::Matrix<double, 6, 1> xi;
+  xi << 0.008, -0.006, 0.005, 0.004, -0.003, 0.002;
+  w.map.keyframe(3).cam_from_world = SE3d::Exp(xi) * w.true_cam_from_world[3];
+  ErrorModel frozen_model;
+  frozen_model.sigma = 5.0;
+  frozen_model.fitted = true;
+  for (int k = 0; k < 3; ++k) {
+    w.map.keyframe(k).frozen = true;
+    w.map.keyframe(k).error_model = frozen_model;
+  }
+  w.map.point(0).observations[0].outlier = true;  // In a frozen keyframe: stays an outlier ...
+  Point& flagged = w.map.point(1);
+  const int frozen_target = flagged.observations[1].target;
+  ASSERT_TRUE(w.map.keyframe(frozen_target).frozen);
+  std::vector<float> depths;
+  for (int i = 0; i < w.map.NumPoints(); ++i) depths.push_back(w.map.point(i).idepth);
+
+  const PbaSummary s = RunPba(&w.map, w.seq.camera, {0, 1, 2, 3}, PbaOptions{}, {});
+  EXPECT_EQ(s.fixed_keyframes, 3);
+  EXPECT_LT(s.final_energy, s.initial_energy);
+  for (int k = 0; k < 3; ++k) {
+    const Keyframe& kf = w.map.keyframe(k);
+    EXPECT_EQ(kf.cam_from_world.Matrix(), w.true_cam_from_world[k].Matrix()) << "keyframe " << k;
+    EXPECT_EQ(kf.affine.a, 0.0);
+    EXPECT_EQ(kf.affine.b, 0.0);
+    EXPECT_EQ(kf.error_model.sigma, 5.0) << "keyframe " << k;
+  }
+  for (int i = 0; i < w.map.NumPoints(); ++i) ASSERT_EQ(w.map.point(i).idepth, depths[i]) << "point " << i;
+  EXPECT_TRUE(w.map.point(0).observations[0].outlier);
+  EXPECT_FALSE(flagged.observations[1].outlier);
+  // Only the observations in keyframe 3 are in the problem (the rest join fixed values alone).
+  int in_free = 0;
+  for (int i = 0; i < w.map.NumPoints(); ++i) in_free += w.map.point(i).FindObservation(3) != nullptr;
+  EXPECT_EQ(s.observations, in_free);
+  // Keyframe 3 is back where it was rendered, in the frozen keyframes' frame and scale.
+  const SE3d& k3 = w.map.keyframe(3).cam_from_world;
+  EXPECT_LT((k3.Inverse().Translation() - w.true_cam_from_world[3].Inverse().Translation()).norm(), 1e-3);
+  EXPECT_LT(RotationErrorDeg(k3, w.true_cam_from_world[3]), 0.03);
+  EXPECT_NE(w.map.keyframe(3).error_model.sigma, ErrorModel{}.sigma);  // The free keyframe's model is fitted.
+}
+
 TEST(Pba, OnlyTheNewestModelIsRefittedWhenAsked) {
   World w;
   BuildWorld({0, 6, 12, 18}, &w);

@@ -66,6 +66,7 @@ MapRun CloseMap(System& system, const fs::path& dir, const MapSet::Spans& spans,
   m.map_points = system.NumMapPoints();
   m.loaded_keyframes = system.loaded_keyframes();
   m.loaded_points = system.loaded_points();
+  m.retired_keyframes = system.retired_keyframes();
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");

@@ -72,14 +72,18 @@ nlohmann::json CameraJson(const PinholeCamera& c) {
   return {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy}};
 }
 
-// RunOptions::load_map: its maps, each taken up by a System of `make`; none without a file.
+// RunOptions::load_map: its maps, each taken up by a System of `make`, and the options that made
+// them (*options); none without a file.
 template <typename Make>
-std::vector<std::unique_ptr<System>> LoadMaps(const fs::path& file, const PinholeCamera& camera, const Make& make) {
+std::vector<std::unique_ptr<System>> LoadMaps(const fs::path& file, const PinholeCamera& camera, const Make& make,
+                                              System::LoadedMapUse use, std::string* options) {
   std::vector<std::unique_ptr<System>> systems;
   if (file.empty()) return systems;
-  for (StoredMap& stored : MapsToTakeUp(file, ReadMapFile(file), camera)) {
+  MapFile read = ReadMapFile(file);
+  *options = read.options;
+  for (StoredMap& stored : MapsToTakeUp(file, std::move(read), camera)) {
     systems.push_back(make());
-    systems.back()->RestoreMap(std::move(stored));
+    systems.back()->RestoreMap(std::move(stored), use);
   }
   return systems;
 }
@@ -161,7 +165,11 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   };
   // The maps of a map file are read before the run's clock starts (realtime: before the first
   // frame is released).
-  std::vector<std::unique_ptr<System>> loaded = LoadMaps(options.load_map, undistorter.output(), make_system);
+  if (options.localize && options.load_map.empty()) throw InputError("--localize needs a map to localise in (--load-map)");
+  std::string loaded_options;
+  std::vector<std::unique_ptr<System>> loaded =
+      LoadMaps(options.load_map, undistorter.output(), make_system,
+               options.localize ? System::LoadedMapUse::kLocalize : System::LoadedMapUse::kExtend, &loaded_options);
   const int loaded_maps = static_cast<int>(loaded.size());
   nlohmann::json map_loaded;
   if (!loaded.empty()) {
@@ -190,9 +198,13 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       make_system,
       [&](int id, System& system, const MapSet::Spans& spans) {
         if (ended.size() <= static_cast<size_t>(id)) ended.resize(id + 1);
-        ended[id] = CloseMap(system, map_dir(id), spans, options.global_ba, undistorter.output(), options.write_map,
+        // A map saved for later sessions is adjusted whole first (System::TakeStoredMap): the
+        // trajectories written are the map's as saved.
+        const bool saved = !options.save_map.empty() && (!options.localize || system.localizing());
+        ended[id] = CloseMap(system, map_dir(id), spans, (options.global_ba || saved) && !system.localizing(),
+                             undistorter.output(), options.write_map,
                              options.truth_ba && dataset.HasGroundTruth() ? &dataset.ground_truth : nullptr);
-        if (!options.save_map.empty()) {
+        if (saved) {
           if (stored.size() <= static_cast<size_t>(id)) stored.resize(id + 1);
           stored[id] = system.TakeStoredMap();
         }
@@ -412,7 +424,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                      {"mapping", TimingStats(s.mapping_ms)}, {"pba", TimingStats(s.pba_ms)},
                      {"young_map_ba", TimingStats(s.young_map_ba_ms)}, {"loop_ba", TimingStats(s.loop_ba_ms)}}},
   };
-  if (options.global_ba) summary.stats["timing_ms"]["global_ba"] = s.global_ba_ms;
+  if (s.global_ba_ms >= 0.0) summary.stats["timing_ms"]["global_ba"] = s.global_ba_ms;
   summary.stats["pace"] = PaceName(options.pace);
   summary.stats["frames_dropped"] = dropped;
   summary.stats["frames_skipped"] = skipped.size();
@@ -498,14 +510,18 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
         relocalised_in_loaded_at >= 0 ? nlohmann::json(relocalised_in_loaded_at) : nlohmann::json(nullptr);
     // What this run added to the loaded maps (a new map that started meanwhile has its own row in
     // `maps`).
-    int keyframes_added = 0, points_added = 0;
+    // Localising, they are temporary: those retired are gone again, the rest go with the run.
+    int keyframes_added = 0, points_added = 0, retired = 0;
     for (const MapRun& m : maps) {
       if (m.loaded_keyframes == 0) continue;
       keyframes_added += m.stats.keyframes;
       points_added += m.stats.points_created;
+      retired += m.retired_keyframes;
     }
     summary.stats["keyframes_added"] = keyframes_added;
     summary.stats["points_added"] = points_added;
+    summary.stats["localize"] = options.localize;
+    if (options.localize) summary.stats["keyframes_retired"] = retired;
     summary.line += relocalised_in_loaded_at >= 0
                         ? "; relocalised in the loaded map at frame " + std::to_string(relocalised_in_loaded_at)
                         : "; never relocalised in the loaded map";
@@ -518,7 +534,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
     MapFile file;
     file.created_by = std::string("dsm ") + kVersion;
     file.camera = undistorter.output();
-    file.options = OptionsYaml(options.system);
+    // Localising, the maps are the loaded ones, as the options of their own run made them.
+    file.options = options.localize ? loaded_options : OptionsYaml(options.system);
     int keyframes = 0, points = 0;
     for (std::optional<StoredMap>& m : stored) {
       if (!m || m->map.NumKeyframes() == 0) continue;

@@ -63,6 +63,11 @@ struct RunOptions {
   // frame and scale and extends it; elsewhere it starts a new map as usual. Output folder 0 is the
   // file's first map; keyframes.tum holds the keyframes this run added.
   std::filesystem::path load_map;
+  // With load_map: localise in its maps without changing them (System::LoadedMapUse::kLocalize):
+  // the keyframes the run makes are temporary, retired once the camera is back in the loaded map;
+  // save_map then writes the loaded maps as they were, and a new map started where the camera
+  // is in none of them is left out of it.
+  bool localize = false;
   // >= 0: the live viewer (live_view.h) on this localhost port (0: a free one), its address printed.
   int view_port = -1;
   // With the live viewer: before the first frame, wait up to this long for a browser to connect,

@@ -191,9 +191,11 @@ class System {
   const SystemStats& stats() const { return stats_; }
   int NumMapPoints() const;
   const Map& map() const { return map_; }
-  // Finishes (Finish), then hands over the map with the window it ended with, each keyframe's
-  // covisible keyframes, its noise handling and tracking levels, for a map file: the System is
-  // left with an empty map and is not used again.
+  // Finishes (Finish), adjusts the whole map once (RunGlobalBundleAdjustment, unless it ran
+  // already; a loaded map's keyframes held), then hands over the map with the window it ended
+  // with, each keyframe's covisible keyframes, its noise handling and tracking levels, for a map
+  // file: the System is left with an empty map and is not used again. Localising
+  // (LoadedMapUse::kLocalize), it hands back the loaded map as it was taken up.
   StoredMap TakeStoredMap();
   // A new System (no frame given yet) takes up a map of a map file, as a map the camera left
   // (Suspend): lost, each frame is tried against it by relocalisation with nothing to predict
@@ -202,7 +204,17 @@ class System {
   // tracks and maps in the loaded map's frame and scale, extending it. The map keeps its noise
   // handling; its tracking levels judge the first frames. The stats, trajectories and keyframe
   // logs are this run's: KeyframeTrajectory holds the keyframes it adds, not the loaded ones.
-  void RestoreMap(StoredMap stored);
+  // With LoadedMapUse::kLocalize the map is a reference the run does not change (localisation):
+  // its keyframes and points are frozen (Keyframe::frozen) in every adjustment and never culled.
+  // The keyframes the run makes are temporary: they track the camera where it leaves the mapped
+  // area, and once a new keyframe sees the loaded map again (it has a loaded keyframe among its
+  // covisible ones) every temporary keyframe outside the window is retired (Map::Retire), so the
+  // map stays the loaded one plus the window. TakeStoredMap then gives back the loaded map as
+  // it was taken up.
+  enum class LoadedMapUse { kExtend, kLocalize };
+  void RestoreMap(StoredMap stored, LoadedMapUse use = LoadedMapUse::kExtend);
+  bool localizing() const { return localizing_; }
+  int retired_keyframes() const { return retired_keyframes_; }  // Temporary keyframes retired so far.
   int loaded_keyframes() const { return loaded_keyframes_; }  // Taken up by RestoreMap (0: none) ...
   int loaded_points() const { return loaded_points_; }        // ... and their points (live ones).
   // The map's size as the tracking side last took it over (its tracking reference): keyframes
@@ -457,7 +469,7 @@ class System {
   // reference, so their poses stay where the file has them in every adjustment and the session's
   // poses are in its frame and scale (their points' depths are still refined).
   std::vector<int> HeldWithLoaded(std::vector<int> held) const;
-  std::vector<int> AllKeyframes() const;  // 0 .. NumKeyframes() - 1.
+  std::vector<int> AllKeyframes() const;  // 0 .. NumKeyframes() - 1 but the retired ones.
   // A young map's or loop bundle adjustment (AdjustYoungMap, AdjustLoop). Threaded
   // (SystemOptions::yield_adjustments), it stops for a keyframe waiting to be mapped and is taken
   // up after it, as another mapping job, and for a relocalisation waiting for the mapping side to
@@ -500,7 +512,10 @@ class System {
   // Per point of `ids`: 1 when it projects into `target` and looks consistent there
   // (observation_check.h), or is hosted there.
   std::vector<uint8_t> SeenIn(const std::vector<int>& ids, int target);
-  int CullPoints();  // Returns how many it removed.
+  int CullPoints();  // Returns how many it removed; never a frozen keyframe's point.
+  // Localisation (LoadedMapUse::kLocalize): once keyframe `newest` sees the loaded map again, the
+  // temporary keyframes outside the window leave the map (Map::Retire).
+  void RetireTemporaries(int newest);
   void SelectCandidates(int kf);
   void PublishTrackingReference();
   // Threaded: a newer reference was published than the one the tracking side holds.
@@ -577,6 +592,13 @@ class System {
   // with, and the camera's speed per frame as the map has it (between consecutive keyframes),
   // the reach that judges its first sightings (MovesAsOneCamera).
   int loaded_keyframes_ = 0, loaded_points_ = 0;
+  // LoadedMapUse::kLocalize: the map is a frozen reference; `loaded_as_` is the stored map's
+  // window, covisibility and levels (its map empty) that TakeStoredMap gives back, and
+  // loaded_point_ids_ the points it had (ids below that are its own).
+  bool localizing_ = false;
+  StoredMap loaded_as_;
+  int loaded_point_ids_ = 0;
+  int retired_keyframes_ = 0;
   std::vector<std::vector<int>> loaded_covisibility_;
   double loaded_speed_ = 0.0;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.

@@ -104,6 +104,7 @@ void System::MapNewKeyframe(int kf) {
   log.observations_texture_lost = pba.observations_texture_lost;
   stats_.pba_ms.push_back(pba.time_ms);
   log.points_culled = CullPoints();
+  if (localizing_) RetireTemporaries(kf);
   PublishTrackingReference();
 }
 
@@ -134,6 +135,10 @@ void System::Adjust(Adjustment a) {
   }
   yield.level = a.level;
   yield.iterations = a.iterations;
+  // Keyframes retired meanwhile (localisation) have left the map.
+  const auto retired = [this](int k) { return map_.keyframe(k).retired; };
+  std::erase_if(a.keyframes, retired);
+  std::erase_if(a.held, retired);
   const PbaSummary s =
       RunPba(&map_, camera_, a.young ? AllKeyframes() : a.keyframes, a.options, HeldWithLoaded(a.held), yield);
   SystemStats::KeyframeLog& log = stats_.per_keyframe[a.log];
@@ -303,8 +308,9 @@ void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
 }
 
 std::vector<int> System::AllKeyframes() const {
-  std::vector<int> all(map_.NumKeyframes());
-  for (int k = 0; k < map_.NumKeyframes(); ++k) all[k] = k;
+  std::vector<int> all;
+  for (int k = 0; k < map_.NumKeyframes(); ++k)
+    if (!map_.keyframe(k).retired) all.push_back(k);
   return all;
 }
 
@@ -410,6 +416,7 @@ int System::CullPoints() {
   int culled = 0;
   for (int pid : ActivePointIds()) {
     Point& p = map_.point(pid);
+    if (map_.keyframe(p.host).frozen) continue;
     const int age = num_keyframes - p.created_at_keyframe;  // Keyframes created since activation.
     if (age < 2) {
       // Young: must be seen in every window keyframe created since.

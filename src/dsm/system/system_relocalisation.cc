@@ -89,7 +89,8 @@ std::vector<int> System::RelocalisationCandidates(const ImagePyramid& pyramid, c
   constexpr int kPool = 12;
   std::vector<std::pair<double, int>> similar;
   for (int k = 0; k < map_.NumKeyframes(); ++k)
-    if (k != ref) similar.emplace_back(-Similarity(signature, map_.keyframe(k).signature), k);
+    if (k != ref && !map_.keyframe(k).retired)
+      similar.emplace_back(-Similarity(signature, map_.keyframe(k).signature), k);
   const int pool = std::min<int>(kPool, static_cast<int>(similar.size()));
   std::partial_sort(similar.begin(), similar.begin() + pool, similar.end());
   std::vector<int> unknown;  // Keyframes of the pool and the reference without features yet.

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// A System's map handed to a map file (TakeStoredMap) and taken up from one (RestoreMap).
+// A System's map handed to a map file (TakeStoredMap) and taken up from one (RestoreMap), and
+// the temporary keyframes of a localisation in it (RetireTemporaries).
 #include <algorithm>
 #include <vector>
 
@@ -14,6 +15,21 @@ namespace dsm {
 
 StoredMap System::TakeStoredMap() {
   Finish();
+  if (localizing_) {
+    // The loaded map as it was taken up: what the run added goes, the frozen rest is unchanged.
+    StoredMap stored = std::move(loaded_as_);
+    map_.KeepFirst(loaded_keyframes_, loaded_point_ids_);
+    stored.map = std::move(map_);
+    map_ = Map();
+    window_.clear();
+    covisible_.clear();
+    return stored;
+  }
+  // A map kept for later sessions is adjusted whole once (unless the run did so already): the
+  // window leaves each part of it where the adjustments of its time put it, and a whole-map
+  // adjustment, which the loop's later keyframes pull into agreement, removes most of the drift a
+  // later session would otherwise be held to (docs/results.md, section `sessions`).
+  if (stats_.global_ba_ms < 0.0) RunGlobalBundleAdjustment();
   StoredMap stored;
   stored.window = window_;
   stored.covisible = covisible_;
@@ -30,11 +46,22 @@ StoredMap System::TakeStoredMap() {
   return stored;
 }
 
-void System::RestoreMap(StoredMap stored) {
+void System::RestoreMap(StoredMap stored, LoadedMapUse use) {
   DSM_CHECK(state_ == TrackingState::kInitializing && seen_index_ < 0 && map_.NumKeyframes() == 0,
             "a map is taken up by a new System, before its first frame");
   DSM_CHECK(stored.map.NumKeyframes() > 0, "a restored map has keyframes");
+  localizing_ = use == LoadedMapUse::kLocalize;
+  if (localizing_) {
+    loaded_as_.window = stored.window;
+    loaded_as_.covisible = stored.covisible;
+    loaded_as_.covisibility = stored.covisibility;
+    loaded_as_.image_noise_sigma = stored.image_noise_sigma;
+    loaded_as_.residual_level = stored.residual_level;
+    loaded_as_.texture_level = stored.texture_level;
+    for (int k = 0; k < stored.map.NumKeyframes(); ++k) stored.map.keyframe(k).frozen = true;
+  }
   map_ = std::move(stored.map);
+  loaded_point_ids_ = map_.NumPoints();
   ChooseNoiseHandling(stored.image_noise_sigma);
   window_ = std::move(stored.window);
   covisible_ = std::move(stored.covisible);
@@ -77,6 +104,18 @@ void System::RestoreMap(StoredMap stored) {
   for (int k = 0; k < loaded_keyframes_; ++k) keyframe_features_.emplace(k, std::move(features[k]));
   Transition(TrackingEvent::kMapLoaded);
   suspended_ = true;
+}
+
+void System::RetireTemporaries(int newest) {
+  const auto in = [](const std::vector<int>& v, int k) { return std::find(v.begin(), v.end(), k) != v.end(); };
+  if (std::none_of(covisible_.begin(), covisible_.end(), [&](int k) { return map_.keyframe(k).frozen; })) return;
+  for (int k = loaded_keyframes_; k < newest; ++k) {
+    if (map_.keyframe(k).retired || in(window_, k) || in(covisible_, k)) continue;
+    map_.Retire(k);
+    candidates_.erase(k);
+    keyframe_features_.erase(k);
+    ++retired_keyframes_;
+  }
 }
 
 }  // namespace dsm
