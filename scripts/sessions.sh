@@ -4,7 +4,10 @@
 # is the yardstick. Per sequence: the frame session 2 relocalised in the loaded map at (frames after
 # its start), its keyframe ATE scored with session 1's Sim(3) alignment (dsm eval --alignment-from:
 # no alignment of its own, the loaded map's frame and scale), the one-run keyframe ATE over both
-# laps, their ratio, and the points session 2 added against those it loaded. All runs --sequential.
+# laps, their ratio, and the points session 2 added against those it loaded. Then session 2 again,
+# localising in the map (--localize --save-map): its ATE scored the same way and its ratio, whether
+# the map file it wrote is the loaded one byte for byte, and its real-time factor in the default
+# (free) pace, measured after the other runs, one run at a time. All other runs --sequential.
 #
 # Sequences: the two-lap synthetic scenes loop, exposure and orbit (split at their half), the shared
 # EuRoC frames (0-169, 170-339) and the shared path-traced room (blender_room_s3, then
@@ -18,7 +21,7 @@
 # table is also written to docs/results.md (section `sessions`, scripts/results.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-RESULTS_COLUMNS=("sequence" "runs" "relocalised after (frames)" "session 2 KF ATE in session 1's alignment (mm)" "one run KF ATE (mm)" "ratio" "points added / loaded" "ratio per seed")
+RESULTS_COLUMNS=("sequence" "runs" "relocalised after (frames)" "session 2 KF ATE in session 1's alignment (mm)" "one run KF ATE (mm)" "ratio" "points added / loaded" "ratio per seed" "localised KF ATE (mm)" "localised ratio" "map unchanged" "localised real-time factor")
 source scripts/results.sh
 RESULTS_ARGS=$(results_args "$@")
 
@@ -86,14 +89,28 @@ run_job() {
       "$DSM" run "$d1" $a1 --sequential --quiet --no-report --out "$out/s1" --save-map "$out/s1.dsmmap" &&
       "$DSM" run "$d2" $a2 --sequential --quiet --no-report --out "$out/s2" --load-map "$out/s1.dsmmap" &&
       "$DSM" eval --ref "$d2" --est "$out/s2/keyframes.tum" --alignment-from "$out/s1/eval.json" \
-        --json "$out/s2_in_s1.json"
+        --json "$out/s2_in_s1.json" &&
+      "$DSM" run "$d2" $a2 --sequential --quiet --no-report --out "$out/loc" --load-map "$out/s1.dsmmap" \
+        --localize --save-map "$out/loc.dsmmap" &&
+      "$DSM" eval --ref "$d2" --est "$out/loc/keyframes.tum" --alignment-from "$out/s1/eval.json" \
+        --json "$out/loc_in_s1.json"
   } >"$out/log" 2>&1 || echo "sessions: $name failed (see $out/log)" >&2
+  if cmp -s "$out/s1.dsmmap" "$out/loc.dsmmap"; then echo true >"$out/unchanged"; else echo false >"$out/unchanged"; fi
   # Session 2's first frame, which the relocalisation's frame counts from.
   echo "${a2#--start }" | grep -Eo '^[0-9]+$' >"$out/start" || echo 0 >"$out/start"
 }
 export -f run_job
 export DSM WORK
 printf '%s\n' "${jobs_list[@]}" | xargs -P "$JOBS" -I{} bash -c 'run_job "$@"' _ {}
+# The localisation's speed in the default pace, one run at a time (the others would share the cores).
+for job in "${jobs_list[@]}"; do
+  IFS='|' read -r name _ _ _ d2 a2 <<<"$job"
+  out="$WORK/run_$name"
+  [ -f "$out/s1.dsmmap" ] || continue
+  # shellcheck disable=SC2086  # the argument list
+  "$DSM" run "$d2" $a2 --quiet --no-report --no-map --out "$out/loc_free" --load-map "$out/s1.dsmmap" --localize \
+    >>"$out/log" 2>&1 || echo "sessions: $name localised in the free pace failed (see $out/log)" >&2
+done
 
 # One row per sequence: medians over its runs (the synthetic scenes' seeds).
 table() {
@@ -106,14 +123,18 @@ table() {
       case "$s" in euroc | room) [ "$out" = "$WORK/run_$s" ] || continue ;; *) [ "$out" = "$WORK/run_$s" ] && continue ;; esac
       total=$((total + 1))
       [ -f "$out/s2_in_s1.json" ] || continue
+      [ -f "$out/loc_in_s1.json" ] && [ -f "$out/loc_free/stats.json" ] || continue
       rows+=("$(jq -cn --slurpfile s2 "$out/s2/stats.json" --slurpfile e "$out/s2_in_s1.json" \
-        --slurpfile both "$out/both/eval.json" --argjson start "$(cat "$out/start")" '
+        --slurpfile both "$out/both/eval.json" --argjson start "$(cat "$out/start")" \
+        --slurpfile loc "$out/loc_in_s1.json" --slurpfile free "$out/loc_free/stats.json" \
+        --argjson unchanged "$(cat "$out/unchanged")" '
         { reloc: ($s2[0].relocalised_in_loaded_map_at_frame | if . == null then null else . - $start end),
           ate: ($e[0].ape.rmse * 1000), both: ($both[0].keyframes.ape.rmse * 1000),
-          added: $s2[0].points_added, loaded: $s2[0].map_loaded.points }')")
+          added: $s2[0].points_added, loaded: $s2[0].map_loaded.points,
+          loc: ($loc[0].ape.rmse * 1000), unchanged: $unchanged, rtf: $free[0].realtime_factor }')")
     done
     if [ ${#rows[@]} -eq 0 ]; then
-      echo "| $s | 0/$total | failed | | | | | |"
+      echo "| $s | 0/$total | failed | | | | | | | | | |"
       continue
     fi
     printf '%s\n' "${rows[@]}" | jq -rs --arg s "$s" --arg total "$total" '
@@ -124,7 +145,9 @@ table() {
       | "| \($s) | \(length)/\($total) | \(if ($r | length) == 0 then "never" else "\($r | median) [max \($r | max)]" end)"
         + "\(if ($r | length) < length then " (\(length - ($r | length)) never)" else "" end)"
         + " | \(map(.ate) | spread) | \(map(.both) | spread) | \(map(.ate / .both) | spread)"
-        + " | \(map(.added) | median) / \(map(.loaded) | median) | \(map(.ate / .both | r2 | tostring) | join(", ")) |"'
+        + " | \(map(.added) | median) / \(map(.loaded) | median) | \(map(.ate / .both | r2 | tostring) | join(", "))"
+        + " | \(map(.loc) | spread) | \(map(.loc / .both) | spread)"
+        + " | \(map(select(.unchanged)) | length)/\(length) | \(map(.rtf) | spread) |"'
   done
 }
 table | results_tee "$SECTION"
