@@ -28,7 +28,8 @@
 #            residuals of points hosted by free keyframes, as the original DSM:
 #            pba.refit_all_models false), no-young-ba (without the whole young map's bundle
 #            adjustments at 10, 20 and 40 keyframes: system.young_map_ba_last 0), loop-ba (the keyframes of a loop adjusted when
-#            the covisible keyframes reach 20 keyframes back: system.loop_ba_min_gap 20)
+#            the covisible keyframes reach 20 keyframes back: system.loop_ba_min_gap 20), no-culling
+#            (every keyframe stays: system.keyframe_culling false)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -81,6 +82,7 @@ printf 'pba:\n  max_sigma_ratio: 0\n' > "$WORK/free-sigma.yaml"
 printf 'pba:\n  refit_all_models: false\n' > "$WORK/newest-model.yaml"
 printf 'system:\n  young_map_ba_last: 0\n' > "$WORK/no-young-ba.yaml"
 printf 'system:\n  loop_ba_min_gap: 20\n' > "$WORK/loop-ba.yaml"
+printf 'system:\n  keyframe_culling: false\n' > "$WORK/no-culling.yaml"
 
 args_for() {
   case "$1" in
@@ -95,7 +97,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | no-texture-loss | free-sigma | newest-model | no-young-ba | loop-ba) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | no-texture-loss | free-sigma | newest-model | no-young-ba | loop-ba | no-culling) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac

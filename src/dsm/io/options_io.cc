@@ -77,6 +77,9 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
   Add(&e, "system.rejoin_min_outliers", &o->rejoin_min_outliers,
       "The part mapped after a relocalisation is moved onto the older map when a keyframe sees this many of its points "
       "as outliers (0: never).");
+  Add(&e, "system.keyframe_culling", &o->keyframe_culling,
+      "--mode dsm: a keyframe leaving the window whose view the map already covers is retired, its few points "
+      "re-hosted (false: every keyframe stays).");
   Add(&e, "initializer.min_parallax_deg", &o->initializer.min_parallax_deg,
       "Median parallax of the corners before two views start the map, degrees.");
   Add(&e, "initializer.planar_start", &o->initializer.planar_start,

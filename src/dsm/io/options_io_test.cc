@@ -64,7 +64,7 @@ TEST(OptionsYaml, PrintedOptionsReadBackTheSame) {
     ++keys;
     EXPECT_TRUE(std::regex_match(line, key_line)) << line;
   }
-  EXPECT_EQ(keys, 57);
+  EXPECT_EQ(keys, 58);
   EXPECT_EQ(sections, 12);
   SystemOptions back;
   back.pba.levels = 1;  // Overwritten by the text.

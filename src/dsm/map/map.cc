@@ -92,6 +92,47 @@ void Map::Retire(int id) {
   kf.retired = true;
 }
 
+void Map::Rehost(int pid, int host, const Eigen::Vector2f& pixel, float idepth) {
+  Point& p = points_[pid];
+  Keyframe& to = *keyframes_[host];
+  DSM_CHECK(to.pyramid != nullptr, "a point is re-hosted by a keyframe with its pyramid loaded");
+  std::erase(keyframes_[p.host]->points, pid);
+  std::erase_if(p.observations, [host](const Observation& o) { return o.target == host; });
+  p.host = host;
+  p.pixel = pixel;
+  p.idepth = idepth;
+  p.patch_ok = SampleHostPatch(*to.pyramid, 0, pixel, interpolation_, &p.patch);
+  to.points.push_back(pid);
+}
+
+std::vector<int> Map::DropRetired() {
+  std::vector<int> keyframe_id(keyframes_.size(), -1), point_id(points_.size(), -1);
+  std::vector<std::unique_ptr<Keyframe>> keyframes;
+  for (size_t k = 0; k < keyframes_.size(); ++k) {
+    if (keyframes_[k]->retired) continue;
+    keyframe_id[k] = static_cast<int>(keyframes.size());
+    keyframes.push_back(std::move(keyframes_[k]));
+  }
+  std::vector<Point> points;
+  for (size_t i = 0; i < points_.size(); ++i) {
+    if (keyframe_id[points_[i].host] < 0) continue;
+    point_id[i] = static_cast<int>(points.size());
+    points.push_back(std::move(points_[i]));
+  }
+  for (Point& p : points) {
+    p.id = point_id[p.id];
+    p.host = keyframe_id[p.host];
+    for (Observation& o : p.observations) o.target = keyframe_id[o.target];  // Retire dropped those in retired ones.
+  }
+  for (auto& kf : keyframes) {
+    kf->id = keyframe_id[kf->id];
+    for (int& pid : kf->points) pid = point_id[pid];
+  }
+  keyframes_ = std::move(keyframes);
+  points_ = std::move(points);
+  return keyframe_id;
+}
+
 void Map::KeepFirst(int keyframes, int points) {
   DSM_CHECK(keyframes <= NumKeyframes() && points <= NumPoints(), "a map keeps what it has");
   keyframes_.resize(keyframes);

@@ -118,10 +118,19 @@ class Map {
   // Keyframe `id` leaves the map for good (Keyframe::retired): its points are removed, every
   // observation in it is dropped, its pyramid and image are released; its pose stays.
   void Retire(int id);
+  // Point `pid` is hosted by keyframe `host` from now on, at `pixel` with `idepth` there (its
+  // projection), its patch sampled anew in the host's pyramid (loaded: LoadPyramids); its
+  // observation in `host`, if any, goes (the host sees it by definition).
+  void Rehost(int pid, int host, const Eigen::Vector2f& pixel, float idepth);
   // Back to the map's first `keyframes` keyframes and `points` points, as they were taken up
   // before a run that changed nothing of them (Keyframe::frozen) added the rest: the others go,
   // with every observation in them.
   void KeepFirst(int keyframes, int points);
+
+  // The map without its retired keyframes and the points they hosted: the others keep their order
+  // and are numbered anew (ids, hosts, observations, hosted lists). Returns the new id of each old
+  // keyframe (-1: retired).
+  std::vector<int> DropRetired();
 
   Keyframe& keyframe(int id) { return *keyframes_[id]; }
   const Keyframe& keyframe(int id) const { return *keyframes_[id]; }

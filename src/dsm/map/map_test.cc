@@ -63,5 +63,58 @@ TEST(Map, ReleasesUnusedPyramidsAndRebuildsThemExactlyFromTheCompactImage) {
   EXPECT_EQ(map.keyframe(1).Intensity(5, 5), map.keyframe(1).Pyramid().At(0, 5, 5)[0]);
 }
 
+// A retired keyframe keeps its pose alone; a point re-hosted moves to its new host's lists with a
+// patch of that host; the map kept without retired keyframes is numbered anew throughout; and a
+// map cut back to what it had drops what came after, observations included.
+TEST(Map, RetiresRehostsAndDropsKeyframes) {
+  Map map;
+  for (int k = 0; k < 4; ++k) map.AddKeyframe(MakeKeyframe(0.5f * k));
+  map.keyframe(1).cam_from_world = SE3d::Exp((Eigen::Matrix<double, 6, 1>() << 0.1, 0, 0, 0, 0, 0).finished());
+  const auto add = [&map](int host, float x, std::vector<int> targets) {
+    Point p;
+    p.host = host;
+    p.pixel = Eigen::Vector2f(x, 7.f);
+    for (int t : targets) p.observations.push_back({t, false});
+    return map.AddPoint(p);
+  };
+  const int a = add(0, 8.f, {1, 2, 3}), b = add(1, 10.f, {0, 2}), c = add(1, 12.f, {3}), d = add(3, 9.f, {1});
+
+  map.Rehost(b, 2, Eigen::Vector2f(11.f, 6.f), 0.5f);
+  EXPECT_EQ(map.point(b).host, 2);
+  EXPECT_EQ(map.point(b).observations.size(), 1u);  // Its observation in keyframe 2 went.
+  EXPECT_EQ(map.keyframe(2).points, std::vector<int>{b});
+  EXPECT_EQ(map.keyframe(1).points, std::vector<int>{c});
+  HostPatch expected;
+  ASSERT_TRUE(SampleHostPatch(map.keyframe(2).Pyramid(), 0, Eigen::Vector2f(11.f, 6.f), Interpolation::kBilinear,
+                              &expected));
+  EXPECT_EQ(map.point(b).patch.value, expected.value);
+
+  const SE3d pose = map.keyframe(1).cam_from_world;
+  map.Retire(1);
+  EXPECT_TRUE(map.keyframe(1).retired);
+  EXPECT_TRUE(map.point(c).removed);
+  EXPECT_EQ(map.keyframe(1).pyramid, nullptr);
+  EXPECT_EQ(map.keyframe(1).image.size(), 0u);
+  EXPECT_EQ(map.keyframe(1).cam_from_world.Matrix(), pose.Matrix());
+  EXPECT_EQ(map.point(a).observations.size(), 2u);  // 2 and 3.
+  EXPECT_TRUE(map.point(d).observations.empty());
+
+  const std::vector<int> id = map.DropRetired();
+  EXPECT_EQ(id, (std::vector<int>{0, -1, 1, 2}));
+  ASSERT_EQ(map.NumKeyframes(), 3);
+  ASSERT_EQ(map.NumPoints(), 3);  // a, b, d; c went with its host.
+  EXPECT_EQ(map.point(0).observations[0].target, 1);
+  EXPECT_EQ(map.point(0).observations[1].target, 2);
+  EXPECT_EQ(map.point(1).host, 1);
+  EXPECT_EQ(map.point(2).host, 2);
+  EXPECT_EQ(map.keyframe(2).points, std::vector<int>{2});
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(map.keyframe(k).id, k);
+
+  map.KeepFirst(2, 2);
+  EXPECT_EQ(map.NumKeyframes(), 2);
+  EXPECT_EQ(map.NumPoints(), 2);
+  EXPECT_EQ(map.point(0).observations.size(), 1u);  // The one in keyframe 2 went.
+}
+
 }  // namespace
 }  // namespace dsm

@@ -148,6 +148,9 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     all.traces_skipped += s.traces_skipped;
     all.brightness_holds += s.brightness_holds;
     all.pyramids_rebuilt += s.pyramids_rebuilt;
+    all.keyframes_culled += s.keyframes_culled;
+    all.points_rehosted += s.points_rehosted;
+    all.points_dropped += s.points_dropped;
     all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);
   }
   return all;

@@ -445,6 +445,12 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["frames_overdue"] = backlog.overdue;
   summary.stats["backlog_max"] = backlog.max_size;
   summary.stats["pyramids_rebuilt"] = s.pyramids_rebuilt;
+  // Keyframe culling: the keyframes the maps keep (made, less those culled) and what became of the
+  // culled ones' points.
+  summary.stats["keyframes_culled"] = s.keyframes_culled;
+  summary.stats["keyframes_kept"] = s.keyframes - s.keyframes_culled;
+  summary.stats["points_rehosted"] = s.points_rehosted;
+  summary.stats["points_dropped"] = s.points_dropped;
   summary.stats["pyramids_loaded_max"] = s.pyramids_loaded_max;
   summary.stats["processing_s"] = process_s;
   summary.stats["frames_per_second"] = fps;

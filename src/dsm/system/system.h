@@ -134,6 +134,9 @@ struct SystemStats {
   // Trackings redone with the brightness held: the contrast changed more than exposure can
   // (TrackerOptions::max_alpha_step).
   int brightness_holds = 0;
+  int keyframes_culled = 0;  // Retired by keyframe culling (SystemOptions::keyframe_culling) ...
+  int points_rehosted = 0;   // ... their points re-hosted by other keyframes ...
+  int points_dropped = 0;    // ... and those none could.
   int pyramids_rebuilt = 0;         // Keyframe pyramids rebuilt after they were released (Map).
   int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };
@@ -513,6 +516,9 @@ class System {
   // (observation_check.h), or is hosted there.
   std::vector<uint8_t> SeenIn(const std::vector<int>& ids, int target);
   int CullPoints();  // Returns how many it removed; never a frozen keyframe's point.
+  // SystemOptions::keyframe_culling: retires keyframe k, which has just left the temporal window,
+  // when the map has it covered; true when it did.
+  bool CullKeyframe(int k);
   // Localisation (LoadedMapUse::kLocalize): once keyframe `newest` sees the loaded map again, the
   // temporary keyframes outside the window leave the map (Map::Retire).
   void RetireTemporaries(int newest);
@@ -598,7 +604,7 @@ class System {
   bool localizing_ = false;
   StoredMap loaded_as_;
   int loaded_point_ids_ = 0;
-  int retired_keyframes_ = 0;
+  int retired_keyframes_ = 0;  // Localisation's temporary keyframes retired, or culled keyframes.
   std::vector<std::vector<int>> loaded_covisibility_;
   double loaded_speed_ = 0.0;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.

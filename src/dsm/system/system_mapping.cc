@@ -83,10 +83,14 @@ void System::MapNewKeyframe(int kf) {
         p.observations.push_back({kf, false});
     }
   window_.push_back(kf);
+  std::vector<int> dropped;
   for (int drop; (drop = SelectKeyframeToDrop(map_, window_, options_.window)) >= 0;) {
     window_.erase(std::find(window_.begin(), window_.end(), drop));
     candidates_.erase(drop);
+    dropped.push_back(drop);
   }
+  if (options_.keyframe_culling && options_.mode == MapMode::kFull && !localizing_)
+    for (int k : dropped) CullKeyframe(k);
   SelectCovisible(kf, &occlusion);
   ActivateCandidates(kf);
   // Covisible keyframes bring their points; their poses stay where the older map put them unless

@@ -36,6 +36,20 @@ StoredMap System::TakeStoredMap() {
   stored.covisibility = loaded_covisibility_;
   for (const SystemStats::KeyframeLog& log : stats_.per_keyframe) stored.covisibility.push_back(log.covisible);
   stored.covisibility.resize(std::min<size_t>(stored.covisibility.size(), map_.NumKeyframes()));
+  // Retired keyframes (culled) are not part of the map kept: the rest are numbered anew.
+  const std::vector<int> id = map_.DropRetired();
+  const auto renumber = [&id](std::vector<int> ids) {
+    std::vector<int> out;
+    for (int k : ids)
+      if (id[k] >= 0) out.push_back(id[k]);
+    return out;
+  };
+  stored.window = renumber(stored.window);
+  stored.covisible = renumber(stored.covisible);
+  std::vector<std::vector<int>> covisibility;
+  for (size_t k = 0; k < stored.covisibility.size(); ++k)
+    if (id[k] >= 0) covisibility.push_back(renumber(stored.covisibility[k]));
+  stored.covisibility = std::move(covisibility);
   stored.image_noise_sigma = std::max(0.0, stats_.image_noise_sigma);
   stored.residual_level = track_.quality.ResidualLevel();
   stored.texture_level = track_.quality.TextureLevel();
