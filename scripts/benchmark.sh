@@ -7,15 +7,16 @@
 # Usage: ./scripts/benchmark.sh [WORK_DIR]      (default /tmp/dsm_benchmark)
 #        ./scripts/benchmark.sh --print-header   the table's header alone (no build, no run)
 #   DSM_BENCH_QUICK=1   only EuRoC and the loop scene, and a 1200-frame long loop
+#   DSM_BENCH_LONG_FRAMES=N   the long loop's frames (default 6000; 1200 with DSM_BENCH_QUICK)
 #   DSM_BENCH_NO_KERNELS=1   skip the Google Benchmark programs
 #   DSM_BIN=path   measure this dsm binary (no set-up or build; e.g. a copy of an older build)
 # Renders are kept in WORK_DIR and reused. Compare numbers from one invocation only: this machine's
 # speed drifts from hour to hour. The output is also written to docs/results.md (scripts/results.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-RESULTS_COLUMNS=("sequence" "pace" "frames" "KF" "tracking ms median / p90" "PBA ms/KF mean / KF 100–200 / last 100" "fps" "real-time factor" "dropped" "latency ms median / p90 / p90 of the kept pose" "peak RSS MB" "KF ATE mm")
+RESULTS_COLUMNS=("sequence" "pace" "frames" "KF kept / made" "tracking ms median / p90" "PBA ms/KF mean / KF 100–200 / last 100" "fps" "real-time factor" "dropped" "latency ms median / p90 / p90 of the kept pose" "peak RSS MB" "KF ATE mm")
 source scripts/results.sh
-RESULTS_ARGS="${DSM_BENCH_QUICK:+(DSM_BENCH_QUICK=$DSM_BENCH_QUICK)}"
+RESULTS_ARGS="${DSM_BENCH_QUICK:+(DSM_BENCH_QUICK=$DSM_BENCH_QUICK${DSM_BENCH_LONG_FRAMES:+ DSM_BENCH_LONG_FRAMES=$DSM_BENCH_LONG_FRAMES})}"
 # The kernels' programs are built with every target.
 if [ "${DSM_BENCH_NO_KERNELS:-0}" != 1 ]; then DSM_SETUP_TARGETS=""; fi
 source scripts/dsm_binary.sh
@@ -29,6 +30,7 @@ if [ "${DSM_BENCH_QUICK:-0}" = 1 ]; then
   SCENES=(loop)
   LONG_FRAMES=1200
 fi
+LONG_FRAMES="${DSM_BENCH_LONG_FRAMES:-$LONG_FRAMES}"
 
 render() {  # render SCENE DIR [synth args]
   local scene=$1 dir=$2
@@ -51,7 +53,7 @@ row() {  # row NAME PACE RUN_DIR
   if [ -f "$run/eval.json" ]; then ate=$(jq '.keyframes.ape.rmse * 1000 | . * 100 | round / 100' "$run/eval.json"); fi
   jq -r --arg name "$name" --arg pace "$pace" --arg ate "$ate" "$JQ_DEFS"'
     [.per_keyframe[] | .pba.ms | select(. > 0)] as $pba |
-    "| \($name) | \($pace) | \(.frames)/\(.frames + .frames_dropped) | \(.keyframes) | " +
+    "| \($name) | \($pace) | \(.frames)/\(.frames + .frames_dropped) | \(.keyframes_kept) / \(.keyframes) | " +
     "\(.timing_ms.tracking.median | r(1)) / \(.timing_ms.tracking.p90 | r(1)) | " +
     "\(.timing_ms.pba.mean | r(0)) / \($pba | kf100to200(0)) / \($pba | last100(0)) | " +
     "\(.frames_per_second | r(1)) | \((.realtime_factor // 0) | r(2)) | \(.frames_dropped) | " +
