@@ -32,6 +32,7 @@ PbaSummary RunPba(Map* map, const PinholeCamera& camera, const std::vector<int>&
   PbaSummary summary;
   internal::Problem problem(map, camera, active, held, options);
   summary.keyframes = problem.NumCameras();
+  summary.cameras = problem.Cameras();
   summary.fixed_keyframes = problem.NumFixed();
   summary.points = problem.NumPoints();
   summary.observations = problem.NumObservations();

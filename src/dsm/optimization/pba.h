@@ -85,6 +85,7 @@ struct PbaSummary {
   bool yielded = false;
   int level = 0, level_iterations = 0;
   int keyframes = 0, fixed_keyframes = 0, points = 0, observations = 0;
+  std::vector<int> cameras;  // The keyframes in the problem, free or fixed (ids).
   double initial_energy = 0.0, final_energy = 0.0;  // Of the finest level (same models), before / after.
   int observations_removed = 0;
   int observations_texture_lost = 0;  // Of those removed: the texture vanished in the target.

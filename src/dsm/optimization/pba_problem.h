@@ -80,6 +80,7 @@ class Problem {
                             int* bad);
 
   int NumCameras() const { return static_cast<int>(cams_.size()); }
+  const std::vector<int>& Cameras() const { return cams_; }  // Keyframe ids.
   int NumFixed() const { return static_cast<int>(std::count(fixed_.begin(), fixed_.end(), true)); }
   int NumPoints() const { return static_cast<int>(points_.size()); }
   int NumObservations() const { return num_obs_; }

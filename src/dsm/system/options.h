@@ -132,12 +132,13 @@ struct SystemOptions {
   // keyframe they come from, and the whole part is moved by the correction (system_rejoin.cc).
   // 0: never.
   int rejoin_min_outliers = 50;
-  // Keyframe culling (--mode dsm): a keyframe that leaves the temporal window is retired
-  // (Map::Retire) when the map already has it covered: at least 90% of the points it sees (hosted
-  // or observed) are seen by three other keyframes, and it hosts at most a tenth of them (a
-  // keyframe of a place seen before, whose view the older map's points cover); its points are
-  // re-hosted by the keyframe that sees each nearest to where it was (dropped when none can).
-  // The map then grows with the area covered rather than the time spent in it.
+  // Keyframe culling (--mode dsm): a keyframe that has left the temporal window and is no longer
+  // in the window's adjustment is retired (Map::Retire) when the map already has it covered: at
+  // least 90% of the points it sees (hosted or observed) are seen by three other keyframes, it
+  // hosts at most a tenth of them, and half of them are the older map's (a place seen before);
+  // its points are re-hosted by the keyframe outside the window that sees each nearest to where
+  // it was (dropped when none can). The map then grows with the area covered rather than the
+  // time spent in it (system_culling.cc).
   bool keyframe_culling = true;
   int loop_ba_max_keyframes = 120;
   int loop_ba_max_iterations = 0;  // Per level; 0: as pba.max_iterations.

@@ -516,9 +516,13 @@ class System {
   // (observation_check.h), or is hosted there.
   std::vector<uint8_t> SeenIn(const std::vector<int>& ids, int target);
   int CullPoints();  // Returns how many it removed; never a frozen keyframe's point.
-  // SystemOptions::keyframe_culling: retires keyframe k, which has just left the temporal window,
-  // when the map has it covered; true when it did.
+  // SystemOptions::keyframe_culling: retires keyframe k, which has left the temporal window, when
+  // the map has it covered; true when it did.
   bool CullKeyframe(int k);
+  // Judges the keyframes that left the temporal window (cull_pending_) once the window's
+  // adjustment no longer has them among its cameras (`in_use`): until then their observations
+  // still tie the window to the map as it was just before.
+  void CullUnusedKeyframes(const std::vector<int>& in_use);
   // Localisation (LoadedMapUse::kLocalize): once keyframe `newest` sees the loaded map again, the
   // temporary keyframes outside the window leave the map (Map::Retire).
   void RetireTemporaries(int newest);
@@ -605,6 +609,7 @@ class System {
   StoredMap loaded_as_;
   int loaded_point_ids_ = 0;
   int retired_keyframes_ = 0;  // Localisation's temporary keyframes retired, or culled keyframes.
+  std::vector<int> cull_pending_;  // Left the temporal window, not judged yet (CullUnusedKeyframes).
   std::vector<std::vector<int>> loaded_covisibility_;
   double loaded_speed_ = 0.0;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.

@@ -42,7 +42,9 @@ bool System::CullKeyframe(int k) {
   if (seen == 0 || covered < kCoveredShare * seen || hosted > kMaxHostedShare * seen || old < kMinOldShare * seen)
     return false;
 
-  // Each hosted point goes to the keyframe that sees it from nearest k's centre, where it projects.
+  // Each hosted point goes to the keyframe outside the temporal window that sees it from nearest
+  // k's centre, where it projects: the window's adjustment is left as it was (a point re-hosted
+  // there would enter it with a free depth).
   const Eigen::Vector3d centre = map_.keyframe(k).Centre();
   const std::vector<int> points = map_.keyframe(k).points;
   for (int pid : points) {
@@ -53,7 +55,9 @@ bool System::CullKeyframe(int k) {
     Eigen::Vector2f pixel;
     float idepth = 0.f;
     for (const Observation& o : p.observations) {
-      if (o.outlier || map_.keyframe(o.target).retired) continue;
+      if (o.outlier || map_.keyframe(o.target).retired ||
+          std::find(window_.begin(), window_.end(), o.target) != window_.end())
+        continue;
       Eigen::Vector2f px;
       float rho;
       const double distance = (map_.keyframe(o.target).Centre() - centre).norm();
@@ -78,6 +82,21 @@ bool System::CullKeyframe(int k) {
   ++stats_.keyframes_culled;
   ++retired_keyframes_;
   return true;
+}
+
+void System::CullUnusedKeyframes(const std::vector<int>& in_use) {
+  std::vector<int> still;
+  for (int k : cull_pending_) {
+    const bool used = std::find(in_use.begin(), in_use.end(), k) != in_use.end() ||
+                      std::find(covisible_.begin(), covisible_.end(), k) != covisible_.end() ||
+                      std::find(window_.begin(), window_.end(), k) != window_.end();
+    if (used) {
+      still.push_back(k);
+    } else {
+      CullKeyframe(k);
+    }
+  }
+  cull_pending_ = std::move(still);
 }
 
 }  // namespace dsm

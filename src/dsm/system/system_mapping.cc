@@ -90,7 +90,7 @@ void System::MapNewKeyframe(int kf) {
     dropped.push_back(drop);
   }
   if (options_.keyframe_culling && options_.mode == MapMode::kFull && !localizing_)
-    for (int k : dropped) CullKeyframe(k);
+    cull_pending_.insert(cull_pending_.end(), dropped.begin(), dropped.end());
   SelectCovisible(kf, &occlusion);
   ActivateCandidates(kf);
   // Covisible keyframes bring their points; their poses stay where the older map put them unless
@@ -108,6 +108,7 @@ void System::MapNewKeyframe(int kf) {
   log.observations_texture_lost = pba.observations_texture_lost;
   stats_.pba_ms.push_back(pba.time_ms);
   log.points_culled = CullPoints();
+  CullUnusedKeyframes(pba.cameras);
   if (localizing_) RetireTemporaries(kf);
   PublishTrackingReference();
 }
