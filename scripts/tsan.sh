@@ -2,8 +2,9 @@
 # ThreadSanitizer check of the two-thread paces: builds `dsm` with -fsanitize=thread in
 # build-tsan/ (override with DSM_TSAN_DIR), then runs the default and the realtime pace on a
 # rendered `loop` (200 frames), on a camera that leaves `loop` for `forward` and comes back (a
-# second map starts and the first resumes: run/map_set.h) and on the first 120 shared EuRoC
-# frames. `--workers 1` keeps the parallel loops on the system's own two threads (TBB's worker
+# second map starts and the first resumes: run/map_set.h), on the first 120 shared EuRoC frames,
+# and on both laps of a 600-frame `loop`: whole (the second lap's keyframes are culled), and the
+# second lap localising in a map file of the first (--localize: temporary keyframes retired). `--workers 1` keeps the parallel loops on the system's own two threads (TBB's worker
 # threads are not instrumented and would only produce reports about TBB itself). Fails on the
 # first report.
 # Usage: ./scripts/tsan.sh [WORK_DIR]   (default /tmp/dsm_tsan)
@@ -24,6 +25,11 @@ mkdir -p "$WORK"
 # The renderer's parallel loop runs on TBB's uninstrumented threads: not part of the check.
 [ -f "$WORK/loop/groundtruth.tum" ] ||
   TSAN_OPTIONS=report_bugs=0 "$DSM" synth --scene loop --frames 200 --out "$WORK/loop" >/dev/null
+[ -f "$WORK/loop600/groundtruth.tum" ] ||
+  TSAN_OPTIONS=report_bugs=0 "$DSM" synth --scene loop --out "$WORK/loop600" >/dev/null
+[ -f "$WORK/lap1.dsmmap" ] ||
+  TSAN_OPTIONS=report_bugs=0 "$DSM" run "$WORK/loop600" --end 300 --sequential --quiet --no-report \
+    --out "$WORK/run_lap1" --save-map "$WORK/lap1.dsmmap"
 [ -f "$WORK/forward/times.txt" ] ||
   TSAN_OPTIONS=report_bugs=0 "$DSM" synth --scene forward --frames 90 --out "$WORK/forward" >/dev/null
 # Frames 0-99 of `loop`, 0-89 of `forward`, 100-199 of `loop`, 50 ms apart, as one folder dataset.
@@ -48,6 +54,7 @@ fi
 printf 'system: {loop_ba_min_gap: 5}\n' >"$WORK/loop_ba.yaml"
 runs=("loop|$WORK/loop|" "loop_ba|$WORK/loop|--config=$WORK/loop_ba.yaml" "return|$WORK/return|")
 if [ -d "$DATA/euroc_mh01_shake" ]; then runs+=("euroc|$DATA/euroc_mh01_shake|--end 120"); fi
+runs+=("culling|$WORK/loop600|" "localize|$WORK/loop600|--start 300 --load-map $WORK/lap1.dsmmap --localize")
 for entry in "${runs[@]}"; do
   IFS='|' read -r name dataset extra <<<"$entry"
   for pace in free realtime; do
