@@ -79,7 +79,7 @@ struct Keyframe {
   // Runtime state, not stored in map files. Frozen: part of a map the run localises in
   // (System::RestoreMap with LoadedMapUse::kLocalize); no adjustment changes its pose, brightness
   // or error model, nor its points' depths or their observations in other frozen keyframes
-  // (pba_selection.h). Retired: a keyframe the map no longer uses (System::Retire); it keeps its
+  // (pba_selection.h). Retired: a keyframe the map no longer uses (Map::Retire); it keeps its
   // pose for the trajectory but no image, points or observations.
   bool frozen = false;
   bool retired = false;

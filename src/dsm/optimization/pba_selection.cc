@@ -26,11 +26,11 @@ PbaSelection SelectPbaProblem(const Map& map, const std::vector<int>& active, co
   const auto for_each_point = [&](const auto& f) {
     std::vector<const Observation*> kept;
     for (size_t c = 0; c < num_active; ++c) {
+      const bool frozen = map.keyframe(s.cams[c]).frozen;
+      const auto usable = [&](const Observation& o) { return !o.outlier && !(frozen && map.keyframe(o.target).frozen); };
       for (int pid : map.keyframe(s.cams[c]).points) {
         const Point& p = map.point(pid);
         if (p.removed) continue;
-        const bool frozen = map.keyframe(s.cams[c]).frozen;
-        const auto usable = [&](const Observation& o) { return !o.outlier && !(frozen && map.keyframe(o.target).frozen); };
         int skip = 0;
         if (is_held[s.cams[c]]) {
           for (const Observation& o : p.observations) skip += usable(o) && !is_active[o.target];
@@ -68,7 +68,7 @@ PbaSelection SelectPbaProblem(const Map& map, const std::vector<int>& active, co
       if (index[o->target] < 0) {  // Observed but not active: in the problem, fixed.
         index[o->target] = static_cast<int>(s.cams.size());
         s.cams.push_back(o->target);
-        s.fixed.push_back(true);  // Frozen or not.
+        s.fixed.push_back(true);
       }
       po.targets.push_back(index[o->target]);
     }

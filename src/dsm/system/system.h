@@ -41,6 +41,7 @@
 #include "dsm/map/stored_map.h"
 #include "dsm/mapping/map_points.h"
 #include "dsm/system/options.h"
+#include "dsm/system/system_stats.h"
 #include "dsm/system/tracking_state.h"
 #include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
@@ -68,77 +69,6 @@ struct FrameReport {
   // Where its wait for a keyframe being mapped ended, or would have (none before the map starts):
   // what comes after is the work a realtime wait has to leave time for (run/realtime_wait.h).
   std::optional<std::chrono::steady_clock::time_point> wait_end;
-};
-
-struct SystemStats {
-  int frames = 0, frames_tracked = 0, keyframes = 0;
-  // Frames that failed the quality test after the map started (tracking_quality.h), the episodes
-  // of consecutive lost frames (first and last frame index) and how many ended by relocalisation.
-  int frames_lost = 0, relocalisations = 0;
-  std::vector<std::pair<int, int>> lost_episodes;
-  int initialized_at_frame = -1;
-  std::string initialization;  // How the map started: "two-view" or "planar" (initializer.h).
-  double image_noise_sigma = -1.0;  // Noise level of the first frame (image/noise.h), grey levels.
-  bool contrast_floor = false;      // Candidates kept off patterns at the noise's contrast.
-  std::string interpolation = "bilinear";  // How the residuals sample images: bilinear | bspline.
-  bool texture_loss = false;  // The bundle adjustment's texture-loss test is on (options.h).
-  std::vector<double> tracking_ms;  // Per tracked frame: its pyramid and alignment.
-  std::vector<double> tracing_ms;   // Per tracked frame: candidate tracing (mapping side).
-  std::vector<double> mapping_ms;   // Per keyframe: everything the mapping side does to it.
-  std::vector<double> pba_ms;       // Per keyframe.
-  std::vector<double> young_map_ba_ms;  // Per young-map bundle adjustment.
-  std::vector<double> loop_ba_ms;       // Per loop bundle adjustment.
-  int points_created = 0;           // Initial points and activated candidates.
-  int reobservations = 0;           // Observations created for points hosted outside the temporal window.
-  int covisible_keyframes_selected = 0;  // Summed over keyframes.
-  struct KeyframeLog {
-    int frame = -1;             // Input frame index of the keyframe.
-    int points_created = 0;     // Points activated when it was mapped.
-    int reobservations = 0;
-    std::vector<int> covisible; // Keyframe ids of the covisible part of its window.
-    // Its bundle adjustment: keyframes in the problem (and how many of them fixed), points,
-    // observations, LM iterations over all levels.
-    int pba_keyframes = 0, pba_fixed_keyframes = 0, pba_points = 0, pba_observations = 0, pba_iterations = 0;
-    double pba_ms = 0.0;           // Its bundle adjustment's time.
-    // The young map's bundle adjustment that followed (SystemOptions::young_map_ba_first), if any:
-    // its keyframes and time.
-    int young_map_ba_keyframes = 0;
-    double young_map_ba_ms = 0.0;
-    int young_map_ba_iterations = 0, young_map_ba_observations = 0;
-    int loop_ba_keyframes = 0;  // Keyframes the loop bundle adjustment after this one freed (0: none).
-    double loop_ba_ms = 0.0;
-    bool loop_ba_seam = false;  // That adjustment was a relocalisation's seam (SystemOptions::seam_ba_count).
-    // The part mapped since the relocalisation moved onto the older map (rejoin_min_outliers):
-    // the correction's translation over the old keyframe's mean depth, its rotation (degrees)
-    // and the median shift of the old points in the keyframe (pixels).
-    bool rejoined = false;
-    double rejoin_step = 0.0, rejoin_deg = 0.0, rejoin_shift_px = 0.0;
-    int observations_removed = 0;  // Marked outliers after its bundle adjustment.
-    int observations_texture_lost = 0;  // Of those: the texture vanished in the target (texture_loss.h).
-    int points_culled = 0;         // Removed after its bundle adjustment.
-    // Tracking of the frame that became this keyframe (0 for the first two).
-    double tracking_rmse = 0.0, tracking_inlier_ratio = 0.0;
-  };
-  std::vector<KeyframeLog> per_keyframe;
-  double global_ba_ms = -1.0;       // -1: not run.
-  int keyframe_queue_max = 0;       // Most keyframes handed to the mapping side and not yet mapped.
-  int keyframe_waits = 0;           // Frames whose tracking waited for a keyframe to be mapped.
-  int keyframe_wait_timeouts = 0;   // Of those, the ones that gave up at their deadline (wait_until).
-  // Frames that failed against the keyframe before a pending one and were tracked again against it.
-  int keyframe_retracks = 0;
-  // Young map's and loop adjustments that stopped for a keyframe waiting to be mapped or a
-  // relocalisation (taken up after it; System::Adjust).
-  int adjustments_yielded = 0;
-  // Frames whose candidate tracing was skipped (SystemOptions::skip_traces_while_mapping).
-  int traces_skipped = 0;
-  // Trackings redone with the brightness held: the contrast changed more than exposure can
-  // (TrackerOptions::max_alpha_step).
-  int brightness_holds = 0;
-  int keyframes_culled = 0;  // Retired by keyframe culling (SystemOptions::keyframe_culling) ...
-  int points_rehosted = 0;   // ... their points re-hosted by other keyframes ...
-  int points_dropped = 0;    // ... and those none could.
-  int pyramids_rebuilt = 0;         // Keyframe pyramids rebuilt after they were released (Map).
-  int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };
 
 // The map as a viewer shows it, taken by the mapping side with a tracking reference when
@@ -608,7 +538,7 @@ class System {
   bool localizing_ = false;
   StoredMap loaded_as_;
   int loaded_point_ids_ = 0;
-  int retired_keyframes_ = 0;  // Localisation's temporary keyframes retired, or culled keyframes.
+  int retired_keyframes_ = 0;  // Localisation's temporary keyframes retired (culled ones: stats_).
   std::vector<int> cull_pending_;  // Left the temporal window, not judged yet (CullUnusedKeyframes).
   std::vector<std::vector<int>> loaded_covisibility_;
   double loaded_speed_ = 0.0;

@@ -32,11 +32,10 @@ bool System::CullKeyframe(int k) {
     const Observation* o = p.FindObservation(k);
     const bool is_host = p.host == k;
     if (!is_host && (o == nullptr || o->outlier)) continue;
-    const int views = p.NumGoodObservations() + 1;  // Host included ...
-    const int others = views - 1;                   // ... and k's own view left out.
     ++seen;
     hosted += is_host;
-    covered += others >= kOtherViews;
+    // The host's view and the good observations, less k's own: the good observations' count.
+    covered += p.NumGoodObservations() >= kOtherViews;
     old += p.host < k - window;
   }
   if (seen == 0 || covered < kCoveredShare * seen || hosted > kMaxHostedShare * seen || old < kMinOldShare * seen)
@@ -80,7 +79,6 @@ bool System::CullKeyframe(int k) {
   map_.Retire(k);
   keyframe_features_.erase(k);
   ++stats_.keyframes_culled;
-  ++retired_keyframes_;
   return true;
 }
 

@@ -83,14 +83,12 @@ void System::MapNewKeyframe(int kf) {
         p.observations.push_back({kf, false});
     }
   window_.push_back(kf);
-  std::vector<int> dropped;
+  const bool culling = options_.keyframe_culling && options_.mode == MapMode::kFull && !localizing_;
   for (int drop; (drop = SelectKeyframeToDrop(map_, window_, options_.window)) >= 0;) {
     window_.erase(std::find(window_.begin(), window_.end(), drop));
     candidates_.erase(drop);
-    dropped.push_back(drop);
+    if (culling) cull_pending_.push_back(drop);  // Judged once the window's adjustment lets it go.
   }
-  if (options_.keyframe_culling && options_.mode == MapMode::kFull && !localizing_)
-    cull_pending_.insert(cull_pending_.end(), dropped.begin(), dropped.end());
   SelectCovisible(kf, &occlusion);
   ActivateCandidates(kf);
   // Covisible keyframes bring their points; their poses stay where the older map put them unless
@@ -140,7 +138,7 @@ void System::Adjust(Adjustment a) {
   }
   yield.level = a.level;
   yield.iterations = a.iterations;
-  // Keyframes retired meanwhile (localisation) have left the map.
+  // Keyframes retired meanwhile (culled, or a localisation's temporary ones) have left the map.
   const auto retired = [this](int k) { return map_.keyframe(k).retired; };
   std::erase_if(a.keyframes, retired);
   std::erase_if(a.held, retired);

@@ -15,44 +15,36 @@ namespace dsm {
 
 StoredMap System::TakeStoredMap() {
   Finish();
+  StoredMap stored;
   if (localizing_) {
     // The loaded map as it was taken up: what the run added goes, the frozen rest is unchanged.
-    StoredMap stored = std::move(loaded_as_);
+    stored = std::move(loaded_as_);
     map_.KeepFirst(loaded_keyframes_, loaded_point_ids_);
-    stored.map = std::move(map_);
-    map_ = Map();
-    window_.clear();
-    covisible_.clear();
-    return stored;
+  } else {
+    // A map kept for later sessions is adjusted whole once (unless the run did so already): the
+    // window leaves each part of it where the adjustments of its time put it, and a whole-map
+    // adjustment, which the loop's later keyframes pull into agreement, removes most of the drift
+    // a later session would otherwise be held to (docs/results.md, section `sessions`).
+    if (stats_.global_ba_ms < 0.0) RunGlobalBundleAdjustment();
+    std::vector<std::vector<int>> covisibility = loaded_covisibility_;
+    for (const SystemStats::KeyframeLog& log : stats_.per_keyframe) covisibility.push_back(log.covisible);
+    covisibility.resize(std::min<size_t>(covisibility.size(), map_.NumKeyframes()));
+    // Retired keyframes (culled) are not part of the map kept: the rest are numbered anew.
+    const std::vector<int> id = map_.DropRetired();
+    const auto renumber = [&id](const std::vector<int>& ids) {
+      std::vector<int> out;
+      for (int k : ids)
+        if (id[k] >= 0) out.push_back(id[k]);
+      return out;
+    };
+    stored.window = renumber(window_);
+    stored.covisible = renumber(covisible_);
+    for (size_t k = 0; k < covisibility.size(); ++k)
+      if (id[k] >= 0) stored.covisibility.push_back(renumber(covisibility[k]));
+    stored.image_noise_sigma = std::max(0.0, stats_.image_noise_sigma);
+    stored.residual_level = track_.quality.ResidualLevel();
+    stored.texture_level = track_.quality.TextureLevel();
   }
-  // A map kept for later sessions is adjusted whole once (unless the run did so already): the
-  // window leaves each part of it where the adjustments of its time put it, and a whole-map
-  // adjustment, which the loop's later keyframes pull into agreement, removes most of the drift a
-  // later session would otherwise be held to (docs/results.md, section `sessions`).
-  if (stats_.global_ba_ms < 0.0) RunGlobalBundleAdjustment();
-  StoredMap stored;
-  stored.window = window_;
-  stored.covisible = covisible_;
-  stored.covisibility = loaded_covisibility_;
-  for (const SystemStats::KeyframeLog& log : stats_.per_keyframe) stored.covisibility.push_back(log.covisible);
-  stored.covisibility.resize(std::min<size_t>(stored.covisibility.size(), map_.NumKeyframes()));
-  // Retired keyframes (culled) are not part of the map kept: the rest are numbered anew.
-  const std::vector<int> id = map_.DropRetired();
-  const auto renumber = [&id](std::vector<int> ids) {
-    std::vector<int> out;
-    for (int k : ids)
-      if (id[k] >= 0) out.push_back(id[k]);
-    return out;
-  };
-  stored.window = renumber(stored.window);
-  stored.covisible = renumber(stored.covisible);
-  std::vector<std::vector<int>> covisibility;
-  for (size_t k = 0; k < stored.covisibility.size(); ++k)
-    if (id[k] >= 0) covisibility.push_back(renumber(stored.covisibility[k]));
-  stored.covisibility = std::move(covisibility);
-  stored.image_noise_sigma = std::max(0.0, stats_.image_noise_sigma);
-  stored.residual_level = track_.quality.ResidualLevel();
-  stored.texture_level = track_.quality.TextureLevel();
   stored.map = std::move(map_);
   map_ = Map();
   window_.clear();
@@ -65,27 +57,21 @@ void System::RestoreMap(StoredMap stored, LoadedMapUse use) {
             "a map is taken up by a new System, before its first frame");
   DSM_CHECK(stored.map.NumKeyframes() > 0, "a restored map has keyframes");
   localizing_ = use == LoadedMapUse::kLocalize;
-  if (localizing_) {
-    loaded_as_.window = stored.window;
-    loaded_as_.covisible = stored.covisible;
-    loaded_as_.covisibility = stored.covisibility;
-    loaded_as_.image_noise_sigma = stored.image_noise_sigma;
-    loaded_as_.residual_level = stored.residual_level;
-    loaded_as_.texture_level = stored.texture_level;
+  if (localizing_)
     for (int k = 0; k < stored.map.NumKeyframes(); ++k) stored.map.keyframe(k).frozen = true;
-  }
   map_ = std::move(stored.map);
+  stored.map = Map();
   loaded_point_ids_ = map_.NumPoints();
   ChooseNoiseHandling(stored.image_noise_sigma);
-  window_ = std::move(stored.window);
-  covisible_ = std::move(stored.covisible);
+  window_ = stored.window;
+  covisible_ = stored.covisible;
   if (options_.mode == MapMode::kSlidingWindow) {
     window_.insert(window_.end(), covisible_.begin(), covisible_.end());
     covisible_.clear();
   }
   loaded_keyframes_ = map_.NumKeyframes();
   loaded_points_ = map_.NumLivePoints();
-  loaded_covisibility_ = std::move(stored.covisibility);
+  loaded_covisibility_ = stored.covisibility;
   loaded_covisibility_.resize(loaded_keyframes_);
   next_keyframe_ = loaded_keyframes_;
 
@@ -118,6 +104,7 @@ void System::RestoreMap(StoredMap stored, LoadedMapUse use) {
   for (int k = 0; k < loaded_keyframes_; ++k) keyframe_features_.emplace(k, std::move(features[k]));
   Transition(TrackingEvent::kMapLoaded);
   suspended_ = true;
+  if (localizing_) loaded_as_ = std::move(stored);  // All but its map, given back by TakeStoredMap.
 }
 
 void System::RetireTemporaries(int newest) {
