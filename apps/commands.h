@@ -21,6 +21,7 @@ Command AddGtCheck(CLI::App& app);
 Command AddReport(CLI::App& app);
 Command AddDamage(CLI::App& app);
 Command AddMap(CLI::App& app);
+Command AddVocabulary(CLI::App& app);
 
 // --gt-frame / --gt-quaternion: how EuRoC ground-truth rows are read (see io/dataset.h).
 struct GtArgs {

@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
   add("report", "Rebuild report.html (map, trajectory, plots; one self-contained page) from a run's output folder",
       dsm::cli::AddReport);
   add("map", "Map files (dsm run --save-map): `dsm map info FILE` describes one", dsm::cli::AddMap);
+  add("vocabulary", "Train the vocabulary of visual words that loop detection uses, on rendered scenes",
+      dsm::cli::AddVocabulary);
   add("damage", "Copy a EuRoC recording with bad frames spliced in (black, noise, a hand over the lens, damaged files)",
       dsm::cli::AddDamage);
   try {

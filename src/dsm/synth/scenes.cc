@@ -91,12 +91,79 @@ void OrbitRoom(std::mt19937& rng, Scene* scene) {
   scene->AddCylinder({{-2.3f, -1.9f}, 0.3f, 0.f, 0.9f, MakeTexture(rng, 0.5f, 0.3f, 0.3f)});             // Barrel.
 }
 
+// A ring corridor around a building block, 3 m wide and 2.8 m high: the inside of a 24 x 16 m
+// room with an 18 x 10 m block in its middle. Cabinets, panels and doors of their own sizes and
+// textures stand along both walls every 1.5-3.5 m, so that places along the 66 m ring look
+// different from each other.
+void BlockRing(std::mt19937& rng, Scene* scene) {
+  scene->AddRoom({-18, -10, 0}, {18, 10, 2.8f},
+                 {MakeTexture(rng, 0.6f, 0.2f, 1.1f, 0.f, 0.7f), MakeTexture(rng, 0.55f, 0.2f, 0.9f, 0.f, 0.7f),
+                  MakeTexture(rng, 0.6f, 0.2f, 1.3f, 0.f, 0.7f), MakeTexture(rng, 0.6f, 0.2f, 1.0f, 0.f, 0.7f),
+                  MakeTexture(rng, 0.4f, 0.3f, 0.9f, 0.6f, 0.3f), MakeTexture(rng, 0.75f, 0.1f, 1.6f, 0.f, 0.8f)});
+  scene->AddBox({-15, -7, 0}, {15, 7, 2.8f}, MakeTexture(rng, 0.6f, 0.2f, 1.0f, 0.f, 0.7f));
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  // Along each wall (x or y, its coordinate, the side the corridor is on, its extent).
+  struct Wall {
+    int axis;  // 0: the wall runs along x; 1: along y.
+    float at, into, from, to;
+  };
+  const Wall walls[] = {{0, -10, 1, -18, 18}, {0, 10, -1, -18, 18}, {1, -18, 1, -10, 10}, {1, 18, -1, -10, 10},
+                        {0, -7, -1, -15, 15},  {0, 7, 1, -15, 15},    {1, -15, -1, -7, 7},  {1, 15, 1, -7, 7}};
+  for (const Wall& w : walls) {
+    for (float along = w.from + 0.5f + 2.f * u(rng); along < w.to - 1.5f; along += 1.5f + 2.f * u(rng)) {
+      const float width = 0.5f + 1.1f * u(rng), depth = 0.04f + 0.36f * u(rng), height = 0.7f + 1.9f * u(rng);
+      const float a0 = along, a1 = std::min(along + width, w.to - 0.3f);
+      const float d0 = w.at, d1 = w.at + w.into * depth;
+      Eigen::Vector3f lo, hi;
+      lo[w.axis] = a0, hi[w.axis] = a1;
+      lo[1 - w.axis] = std::min(d0, d1), hi[1 - w.axis] = std::max(d0, d1);
+      lo.z() = 0.f, hi.z() = height;
+      scene->AddBox(lo, hi,
+                    MakeTexture(rng, 0.3f + 0.4f * u(rng), 0.2f + 0.2f * u(rng), 0.2f + 0.8f * u(rng),
+                                u(rng) < 0.4f ? 0.1f + 0.4f * u(rng) : 0.f));
+      along = a1;
+    }
+  }
+}
+
+// The centre line of BlockRing's corridor, a 21 x 13 m rectangle with corners rounded to 1 m, at
+// arc length s (metres, counter-clockwise from the middle of the -y side).
+Eigen::Vector2d AlongBlockRing(double s) {
+  constexpr double kA = 16.5, kB = 8.5, kR = 1.0;
+  const double sx = 2 * (kA - kR), sy = 2 * (kB - kR), arc = 0.5 * M_PI * kR;
+  const double length = 2 * (sx + sy) + 4 * arc;
+  s = std::fmod(std::fmod(s, length) + length, length);
+  // Sides in order: -y (going +x), +x (going +y), +y (going -x), -x (going -y), each followed by
+  // its corner; the first side starts at its middle.
+  const double sides[4] = {sx, sy, sx, sy};
+  const Eigen::Vector2d dirs[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+  Eigen::Vector2d p(0.0, -kB);
+  double left = s;
+  for (int k = 0; k < 5; ++k) {
+    const int side = k % 4;
+    const double straight = k == 0 ? 0.5 * sides[0] : k == 4 ? 0.5 * sides[0] : sides[side];
+    if (left <= straight) return p + left * dirs[side];
+    p += straight * dirs[side];
+    left -= straight;
+    if (k == 4) break;
+    if (left <= arc) {
+      const Eigen::Vector2d inward = dirs[(side + 1) % 4];
+      const double angle = left / kR;
+      return p + kR * std::sin(angle) * dirs[side] + kR * (1 - std::cos(angle)) * inward;
+    }
+    p += kR * (dirs[side] + dirs[(side + 1) % 4]);
+    left -= arc;
+  }
+  return p;
+}
+
 // Smooth there-and-back profile: 0 -> 1 -> 0 over tau in [0, 1] with zero speed at the ends.
 double ThereAndBack(double tau) { return 0.5 - 0.5 * std::cos(kTwoPi * tau); }
 
 }  // namespace
 
-std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan"}; }
+std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan", "block"};
+}
 
 std::string SceneNameList(const std::string& separator, const std::string& last) {
   const std::vector<std::string> names = SceneNames();
@@ -108,6 +175,7 @@ std::string SceneNameList(const std::string& separator, const std::string& last)
 int DefaultFrames(const std::string& scene) {
   if (scene == "loop" || scene == "exposure" || scene == "orbit") return 600;
   if (scene == "forward") return 400;
+  if (scene == "block") return 1200;
   return 300;
 }
 
@@ -152,6 +220,9 @@ SynthSequence MakeSequence(const SynthOptions& options) {
     Corridor(rng, &seq.scene);
   } else if (name == "orbit") {
     OrbitRoom(rng, &seq.scene);
+  } else if (name == "block") {
+    BlockRing(rng, &seq.scene);
+    seq.scene.TurnTextures();
   } else {
     FurnishedRoom(rng, &seq.scene);
   }
@@ -182,6 +253,13 @@ SynthSequence MakeSequence(const SynthOptions& options) {
       const double sway = 0.17 * std::sin(kTwoPi * 0.27 * t_s + 0.4);
       const Eigen::Vector3d tangent(-std::sin(a), std::cos(a), 0.0);
       target = Eigen::Vector3d(0.0, 0.0, 0.95) + 1.6 * sway * tangent + 0.12 * look_jitter.At(t_s);
+    } else if (name == "block") {
+      // Walking around the ring at 1.5 m/s, looking at the centre line 2 m ahead: a lap takes 44 s,
+      // the default length goes on for a fifth of a lap past the start.
+      const double s = 2.0 * t_s;
+      const Eigen::Vector2d here = AlongBlockRing(s), ahead = AlongBlockRing(s + 2.0);
+      position = Eigen::Vector3d(here.x(), here.y(), 1.5) + Eigen::Vector3d(0.1, 0.1, 0.04).cwiseProduct(jitter.At(t_s));
+      target = Eigen::Vector3d(ahead.x(), ahead.y(), 1.4) + 0.1 * look_jitter.At(t_s);
     } else if (name == "shake") {
       // Side to side and up and down in front of the +y wall, about 0.5 m, looking at it.
       position = Eigen::Vector3d(0.25 * std::sin(kTwoPi * 0.23 * t_s) + 0.05 * jitter.At(t_s).x(),
