@@ -22,7 +22,7 @@ Command AddRun(CLI::App& app) {
     int start = 0, end = -1, workers = 0;
     std::optional<int> nt, nc, pba_levels;
     bool print_config = false;
-    bool quiet = false, no_map = false, no_report = false, global_ba = false, truth_ba = false, sequential = false,
+    bool quiet = false, no_map = false, no_report = false, global_ba = false, no_loop_closure = false, truth_ba = false, sequential = false,
          realtime = false, localize = false;
     std::string save_map, load_map;
     GtArgs gt;
@@ -78,6 +78,9 @@ Command AddRun(CLI::App& app) {
                  "--view: before the first frame, wait up to this many seconds for a browser to connect, so "
                  "that it sees the whole run (default 0: no wait)");
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
+  app.add_flag("--no-loop-closure", a->no_loop_closure,
+               "Do not recognise places seen before to close loops (loop_closure.enabled false): the map joins them only "
+               "where re-observation reaches");
   app.add_flag("--truth-ba", a->truth_ba,
                "Diagnostic, with ground truth: after the outputs are written, bundle-adjust the whole map again "
                "from the true keyframe poses; how far it ends from them (eval.json keyframes_truth_ba, "
@@ -108,6 +111,7 @@ Command AddRun(CLI::App& app) {
     set("--nt", a->nt, &o.window.temporal_keyframes);
     set("--nc", a->nc, &o.window.covisible_keyframes);
     set("--pba-levels", a->pba_levels, &o.pba.levels);
+    if (a->no_loop_closure) o.loop_closure.enabled = false;
     if (!a->robust.empty()) o.pba.robust.kind = o.tracker.robust.kind = ParseRobustKind(a->robust, "--robust");
     options.system.Validate();
     if (a->print_config) {

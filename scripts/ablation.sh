@@ -11,7 +11,7 @@
 #   section: the section of docs/results.md the table is written to (scripts/results.sh; default
 #            ablation); `accuracy`, the README's results table, is
 #            --configs "dsm sw" --seeds "1 2 3 4 5" --section accuracy
-#   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan, each also as
+#   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan block, each also as
 #            <scene>-noisy (rendered with image noise of 6 grey levels instead of 1), and the
 #            shared euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
 #   configs: dsm (defaults), sw (DSM-SW: N_t + N_c temporal keyframes), sw-short (DSM-SW with N_t
@@ -29,7 +29,8 @@
 #            pba.refit_all_models false), no-young-ba (without the whole young map's bundle
 #            adjustments at 10, 20 and 40 keyframes: system.young_map_ba_last 0), loop-ba (the keyframes of a loop adjusted when
 #            the covisible keyframes reach 20 keyframes back: system.loop_ba_min_gap 20), no-culling
-#            (every keyframe stays: system.keyframe_culling false)
+#            (every keyframe stays: system.keyframe_culling false), no-loop-closure (places seen before
+#            are not recognised: --no-loop-closure)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -99,6 +100,7 @@ args_for() {
     huber-mad) echo "--robust huber-mad" ;;
     move-covisible | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | no-texture-loss | free-sigma | newest-model | no-young-ba | loop-ba | no-culling) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
+    no-loop-closure) echo "--no-loop-closure" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac
 }

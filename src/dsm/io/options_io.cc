@@ -80,6 +80,15 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
   Add(&e, "system.keyframe_culling", &o->keyframe_culling,
       "--mode dsm: a keyframe leaving the window whose view the map already covers is retired, its few points "
       "re-hosted (false: every keyframe stays).");
+  Add(&e, "loop_closure.enabled", &o->loop_closure.enabled,
+      "--mode dsm: places seen again are recognised and the loop closed (false: the map joins them only where "
+      "re-observation reaches).");
+  Add(&e, "loop_closure.consistent_keyframes", &o->loop_closure.consistent_keyframes,
+      "Keyframes in a row that must find the same place before it is verified.");
+  Add(&e, "loop_closure.min_inliers", &o->loop_closure.min_inliers,
+      "ORB matches that must agree with the Sim(3) between the two views.");
+  Add(&e, "loop_closure.vocabulary", &o->loop_closure.vocabulary,
+      "Vocabulary file (dsm vocabulary); empty: the one built into dsm.");
   Add(&e, "initializer.min_parallax_deg", &o->initializer.min_parallax_deg,
       "Median parallax of the corners before two views start the map, degrees.");
   Add(&e, "initializer.planar_start", &o->initializer.planar_start,

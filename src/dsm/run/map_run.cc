@@ -149,6 +149,8 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     all.brightness_holds += s.brightness_holds;
     all.pyramids_rebuilt += s.pyramids_rebuilt;
     all.keyframes_culled += s.keyframes_culled;
+    all.loops_detected += s.loops_detected;
+    all.loops_closed.insert(all.loops_closed.end(), s.loops_closed.begin(), s.loops_closed.end());
     all.points_rehosted += s.points_rehosted;
     all.points_dropped += s.points_dropped;
     all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);

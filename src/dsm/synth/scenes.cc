@@ -91,10 +91,10 @@ void OrbitRoom(std::mt19937& rng, Scene* scene) {
   scene->AddCylinder({{-2.3f, -1.9f}, 0.3f, 0.f, 0.9f, MakeTexture(rng, 0.5f, 0.3f, 0.3f)});             // Barrel.
 }
 
-// A ring corridor around a building block, 3 m wide and 2.8 m high: the inside of a 24 x 16 m
-// room with an 18 x 10 m block in its middle. Cabinets, panels and doors of their own sizes and
-// textures stand along both walls every 1.5-3.5 m, so that places along the 66 m ring look
-// different from each other.
+// A ring corridor around a building block, 3 m wide and 2.8 m high: the inside of a 36 x 20 m
+// room with a 30 x 14 m block in its middle. Plain walls; cabinets, panels and doors of their own
+// sizes and textures stand along both walls every 1.5-3.5 m, and floor and ceiling change every
+// few metres, so that places along the 98 m ring look different from each other.
 void BlockRing(std::mt19937& rng, Scene* scene) {
   scene->AddRoom({-18, -10, 0}, {18, 10, 2.8f},
                  {MakeTexture(rng, 0.6f, 0.2f, 1.1f, 0.f, 0.7f), MakeTexture(rng, 0.55f, 0.2f, 0.9f, 0.f, 0.7f),
@@ -122,6 +122,29 @@ void BlockRing(std::mt19937& rng, Scene* scene) {
                     MakeTexture(rng, 0.3f + 0.4f * u(rng), 0.2f + 0.2f * u(rng), 0.2f + 0.8f * u(rng),
                                 u(rng) < 0.4f ? 0.1f + 0.4f * u(rng) : 0.f));
       along = a1;
+    }
+  }
+  // Floor and ceiling in stretches of 1.5-3.5 m, each with a texture of its own (one texture over
+  // the whole floor would repeat along the ring with its tile's period).
+  struct Corridor {
+    int axis;  // The axis it runs along.
+    float from, to, side_lo, side_hi;
+  };
+  const Corridor corridors[] = {{0, -18, 18, -10, -7}, {0, -18, 18, 7, 10}, {1, -7, 7, -18, -15}, {1, -7, 7, 15, 18}};
+  for (const Corridor& c : corridors) {
+    for (float along = c.from; along < c.to - 0.01f;) {
+      const float next = std::min(c.to, along + 1.5f + 2.f * u(rng));
+      for (const bool ceiling : {false, true}) {
+        Eigen::Vector3f lo, hi;
+        lo[c.axis] = along, hi[c.axis] = next;
+        lo[1 - c.axis] = c.side_lo, hi[1 - c.axis] = c.side_hi;
+        lo.z() = ceiling ? 2.79f : 0.f, hi.z() = ceiling ? 2.8f : 0.01f;
+        scene->AddBox(lo, hi,
+                      ceiling ? MakeTexture(rng, 0.65f + 0.2f * u(rng), 0.1f + 0.1f * u(rng), 0.5f + u(rng), 0.f, 0.5f)
+                              : MakeTexture(rng, 0.3f + 0.3f * u(rng), 0.2f + 0.15f * u(rng), 0.3f + 0.7f * u(rng),
+                                            u(rng) < 0.5f ? 0.3f + 0.5f * u(rng) : 0.f));
+      }
+      along = next;
     }
   }
 }

@@ -11,7 +11,7 @@
 //             in front of weakly textured walls (strong parallax, occlusions), two laps
 //   pan       hand-held panning from the first frame, the first 5 s mostly at one wall with
 //             almost no translation (a hard start), then a slow walk back
-//   block     a 66 m lap of a ring corridor around a building block, and a fifth of a lap more:
+//   block     a 98 m lap of a ring corridor around a building block, and a fifth of a lap more:
 //             the drift of a long loop is far beyond what re-observation alone can close
 #pragma once
 

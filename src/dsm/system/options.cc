@@ -27,6 +27,12 @@ bool SystemOptions::YoungMapBaDue(int keyframes) const {
   return false;
 }
 
+void LoopClosureOptions::Validate() const {
+  if (consistent_keyframes < 1 || consistent_keyframes > 20)
+    throw InputError("loop_closure.consistent_keyframes must be within 1..20");
+  if (min_inliers < 6) throw InputError("loop_closure.min_inliers must be at least 6");
+}
+
 void SystemOptions::Validate() const {
   if (pyramid_levels < 1 || pyramid_levels > 6) throw InputError("pyramid_levels must be within 1..6");
   if (max_initialization_frames < 5) throw InputError("max_initialization_frames must be at least 5");
@@ -53,6 +59,7 @@ void SystemOptions::Validate() const {
   keyframe.Validate();
   quality.Validate();
   relocalisation.Validate();
+  loop_closure.Validate();
   window.Validate();
   occlusion.Validate();
   pba.Validate();

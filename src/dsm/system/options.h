@@ -46,6 +46,21 @@ struct RelocalisationOptions {
   void Validate() const;
 };
 
+// Loop closure (--mode dsm; system_loop.cc): each new keyframe's ORB features are scored against
+// the map's keyframes outside the window by their bags of words (place/vocabulary.h); a place
+// found again by `consistent_keyframes` keyframes in a row is verified by a Sim(3) between the
+// two views (RANSAC on ORB matches with map depths, at least `min_inliers`, then direct
+// alignment), and the loop is closed by a Sim(3) pose graph over the map's keyframes, after which
+// the window re-observes the old points and the loop is bundle-adjusted.
+struct LoopClosureOptions {
+  bool enabled = true;
+  int consistent_keyframes = 3;
+  int min_inliers = 20;
+  std::string vocabulary;  // A file written by `dsm vocabulary`; empty: the one built into dsm.
+
+  void Validate() const;
+};
+
 struct SystemOptions {
   MapMode mode = MapMode::kFull;
   // Mapping on a thread of its own beside tracking (system.h); false: every keyframe is mapped
@@ -150,6 +165,7 @@ struct SystemOptions {
   KeyframeOptions keyframe;
   QualityOptions quality;
   RelocalisationOptions relocalisation;
+  LoopClosureOptions loop_closure;
   WindowOptions window;
   OcclusionOptions occlusion;  // Observations of hidden points are not created.
   PbaOptions pba;

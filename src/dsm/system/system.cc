@@ -49,6 +49,14 @@ System::System(const PinholeCamera& camera, const SystemOptions& options)
       min_activation_distance_px_(options.activation.initial_min_distance_px) {
   options_.Validate();
   track_.quality = TrackingQuality(options.quality);
+  if (options_.loop_closure.enabled && options_.mode == MapMode::kFull) {
+    if (options_.loop_closure.vocabulary.empty()) {
+      vocabulary_ = &Vocabulary::BuiltIn();
+    } else {
+      own_vocabulary_ = std::make_unique<Vocabulary>(Vocabulary::Read(options_.loop_closure.vocabulary));
+      vocabulary_ = own_vocabulary_.get();
+    }
+  }
   if (options_.mode == MapMode::kSlidingWindow) {
     // DSM-SW: the same window size N_w = N_t + N_c, all of it temporal (a sliding window as DSO's).
     options_.window.temporal_keyframes += options_.window.covisible_keyframes;

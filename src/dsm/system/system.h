@@ -38,8 +38,11 @@
 #include "dsm/image/image.h"
 #include "dsm/image/signature.h"
 #include "dsm/map/map.h"
+#include "dsm/lie/sim3.h"
 #include "dsm/map/stored_map.h"
 #include "dsm/mapping/map_points.h"
+#include "dsm/place/place_index.h"
+#include "dsm/place/vocabulary.h"
 #include "dsm/system/options.h"
 #include "dsm/system/system_stats.h"
 #include "dsm/system/tracking_state.h"
@@ -456,6 +459,26 @@ class System {
   // Localisation (LoadedMapUse::kLocalize): once keyframe `newest` sees the loaded map again, the
   // temporary keyframes outside the window leave the map (Map::Retire).
   void RetireTemporaries(int newest);
+  // Loop closure (system_loop.cc; LoopClosureOptions), mapping side. Keyframe k's ORB features,
+  // detected on first use (keyframe_features_).
+  const OrbFeatures& KeyframeFeatures(int k);
+  bool LoopClosureActive() const;
+  void AddToPlaceIndex(int k);
+  // Adds keyframe kf to the place index, and closes a loop when it finds one; true when it did.
+  bool DetectAndCloseLoop(int kf);
+  // Keyframe kf seeing old keyframe `candidate` again: the Sim(3) from the candidate's camera to
+  // kf's (at each one's scale), the brightness of kf relative to the candidate's (a and b; without
+  // the exposure times) and the RANSAC inliers.
+  struct LoopMatch {
+    int candidate = -1;
+    Sim3d k_from_c;
+    double alpha = 0.0, beta = 0.0;
+    int inliers = 0;
+  };
+  bool VerifyLoop(int kf, int c, LoopMatch* match);
+  // The pose and brightness graphs with the loop edge; every keyframe and its points moved
+  // (stats_.loops_closed).
+  void CorrectLoop(int kf, const LoopMatch& match);
   void SelectCandidates(int kf);
   void PublishTrackingReference();
   // Threaded: a newer reference was published than the one the tracking side holds.
@@ -540,6 +563,17 @@ class System {
   int loaded_point_ids_ = 0;
   int retired_keyframes_ = 0;  // Localisation's temporary keyframes retired (culled ones: stats_).
   std::vector<int> cull_pending_;  // Left the temporal window, not judged yet (CullUnusedKeyframes).
+  // Loop closure, mapping side: the vocabulary (null: loop closure off), the keyframes' bags of
+  // words, and the candidate groups of the last keyframe with how many keyframes in a row found
+  // them (system_loop.cc).
+  const Vocabulary* vocabulary_ = nullptr;
+  std::unique_ptr<Vocabulary> own_vocabulary_;  // LoopClosureOptions::vocabulary's, when given.
+  PlaceIndex places_;
+  struct LoopGroup {
+    int lo = 0, hi = 0, count = 0;
+  };
+  std::vector<LoopGroup> loop_groups_;
+  int last_loop_keyframe_ = -1;  // The keyframe that closed the last loop (-1: none).
   std::vector<std::vector<int>> loaded_covisibility_;
   double loaded_speed_ = 0.0;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.

@@ -258,10 +258,9 @@ void System::FinishKeyframe(int kf) {
   if (RejoinAfterRelocalisation(kf)) adjusted = true;
   if (AdjustSeam(kf)) adjusted = true;
   if (AdjustLoop(kf)) adjusted = true;
+  if (DetectAndCloseLoop(kf)) adjusted = true;
   if (adjusted) PublishTrackingReference();
-  if (options_.keyframe_features && mapping_thread_) {
-    keyframe_features_.emplace(kf, DetectOrbFeatures(map_.keyframe(kf).Level0(), {}));
-  }
+  if (options_.keyframe_features && mapping_thread_) KeyframeFeatures(kf);
   // Keyframes keep their pyramids while a recent mapping step used them.
   map_.ReleaseUnusedPyramids(options_.keep_pyramid_keyframes);
   stats_.pyramids_loaded_max = std::max(stats_.pyramids_loaded_max, map_.NumLoadedPyramids());

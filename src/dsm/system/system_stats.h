@@ -76,6 +76,19 @@ struct SystemStats {
   int keyframes_culled = 0;  // Retired by keyframe culling (SystemOptions::keyframe_culling) ...
   int points_rehosted = 0;   // ... their points re-hosted by other keyframes ...
   int points_dropped = 0;    // ... and those none could.
+  // Loop closure (LoopClosureOptions): places recognised by consistent_keyframes keyframes in a
+  // row (whether verified or not), and the loops closed.
+  int loops_detected = 0;
+  struct LoopClosure {
+    int frame = -1;                   // Input frame of the keyframe that closed it ...
+    int keyframe = -1, candidate = -1;  // ... its id, and the old keyframe it was matched with.
+    int inliers = 0;                  // Sim(3) RANSAC inliers.
+    // The keyframe's correction: the move of its centre as a share of the path the keyframes
+    // travelled up to it, its rotation (degrees), and the scale its part of the map took.
+    double translation_share = 0.0, rotation_deg = 0.0, scale = 1.0;
+    double ms = 0.0;  // Verification and pose graph.
+  };
+  std::vector<LoopClosure> loops_closed;
   int pyramids_rebuilt = 0;         // Keyframe pyramids rebuilt after they were released (Map).
   int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };

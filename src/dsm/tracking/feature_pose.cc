@@ -164,6 +164,19 @@ std::vector<cv::DMatch> MatchFeaturesBruteForce(const OrbFeatures& frame, const 
   return good;
 }
 
+std::vector<float> KeypointInverseDepths(const OrbFeatures& features, const std::vector<ReferencePoint>& points,
+                                         const FeaturePoseOptions& options) {
+  std::vector<float> idepths(features.keypoints.size(), 0.f);
+  if (points.empty()) return idepths;
+  const PointGrid grid(points, options.max_depth_px);
+  for (size_t i = 0; i < idepths.size(); ++i) {
+    const cv::Point2f& u = features.keypoints[i].pt;
+    const int p = grid.Nearest(u.x, u.y, options.max_depth_px);
+    if (p >= 0) idepths[i] = points[p].idepth;
+  }
+  return idepths;
+}
+
 FeaturePose EstimateFeaturePose(const OrbFeatures& frame, const OrbFeatures& keyframe,
                                 const std::vector<ReferencePoint>& points, const PinholeCamera& camera,
                                 const FeaturePoseOptions& options) {

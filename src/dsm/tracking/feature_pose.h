@@ -67,4 +67,9 @@ FeaturePose EstimateFeaturePose(const OrbFeatures& frame, const OrbFeatures& key
                                 const std::vector<ReferencePoint>& points, const PinholeCamera& camera,
                                 const FeaturePoseOptions& options);
 
+// Per keypoint of `features`: the inverse depth of the nearest of `points` (pixels and inverse
+// depths in the same image) within options.max_depth_px, or 0 when none is that near.
+std::vector<float> KeypointInverseDepths(const OrbFeatures& features, const std::vector<ReferencePoint>& points,
+                                         const FeaturePoseOptions& options);
+
 }  // namespace dsm

@@ -1,0 +1,273 @@
+// SPDX-License-Identifier: MIT
+// Loop closure (LoopClosureOptions, --mode dsm): a camera that comes back after a long path has
+// drifted beyond the reach of re-observation (the photometric alignment converges from a pixel or
+// two away), so the window sees the old place but maps it anew. Appearance finds it, geometry
+// corrects the map, and the persistent map's own mechanism joins the two passes:
+//
+// 1. Detection. Each new keyframe's bag of words (place/vocabulary.h, its ORB features) is scored
+//    against the map's keyframes that the window has not already joined: not in the window, and
+//    none of whose points the window observes. The floor is the lowest score between the
+//    keyframe and the other keyframes of its temporal window (the same place, seen a little
+//    apart). Candidates are grouped with their neighbours in time (a place is seen by several
+//    keyframes), groups scoring less than 3/4 of the best dropped; a group found again by the
+//    next keyframes (overlapping ids) for consistent_keyframes keyframes in a row is a detection.
+// 2. Verification. ORB matches between the keyframe and the group's best candidate take inverse
+//    depths from the map points near each keypoint in both views; RANSAC on a Sim(3) between the
+//    two cameras (geometry/sim3_ransac.h) needs min_inliers, then the keyframe's image is aligned
+//    directly against the candidate's points from that pose (the frame tracker, over the whole
+//    pyramid) and must pass the quality test's inlier share and stay near the feature pose.
+// 3. Correction. A Sim(3) pose graph (optimization/pose_graph.h) over every keyframe: edges
+//    between consecutive keyframes and between keyframes that share at least kMinSharedPoints
+//    observations, measured at the poses before, and the loop edge k_from_c; the first keyframe
+//    (and a loaded map's) held. Each keyframe takes its new pose, its points their host's scale
+//    (inverse depth times s: points are stored relative to their host). The next keyframes select
+//    the old keyframes as covisible and re-observe their points, and the loop bundle adjustment
+//    (System::AdjustLoop) refines the loop region once they reach back far enough.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "dsm/geometry/sim3_ransac.h"
+#include "dsm/optimization/pose_graph.h"
+#include "dsm/system/system.h"
+#include "dsm/system/system_internal.h"
+#include "dsm/tracking/feature_pose.h"
+#include "dsm/tracking/frame_tracker.h"
+
+namespace dsm {
+
+namespace {
+
+constexpr double kFloorShare = 0.8;      // Of the score against the keyframe before.
+constexpr int kGroupReach = 3;           // A candidate's group: keyframes this many ids either side.
+constexpr double kGroupShare = 0.75;     // Groups kept: at least this share of the best group's score.
+constexpr int kLoopGap = 10;            // Keyframes after a closure before the next one.
+constexpr double kLoopWeight = 10.0;     // Of the loop's pose-graph edges against the map's.
+constexpr int kMinSharedPoints = 50;     // Observations that make a pose-graph edge between two keyframes.
+constexpr double kMaxRefineDeg = 5.0;    // The direct alignment stays this near the feature pose ...
+constexpr double kMaxRefineStep = 0.2;   // ... and this near over the candidate's mean depth.
+
+}  // namespace
+
+const OrbFeatures& System::KeyframeFeatures(int k) {
+  auto it = keyframe_features_.find(k);
+  if (it == keyframe_features_.end())
+    it = keyframe_features_.emplace(k, DetectOrbFeatures(map_.keyframe(k).Level0(), {})).first;
+  return it->second;
+}
+
+bool System::LoopClosureActive() const {
+  return options_.loop_closure.enabled && options_.mode == MapMode::kFull && !localizing_ && vocabulary_ != nullptr;
+}
+
+void System::AddToPlaceIndex(int k) {
+  places_.Add(k, vocabulary_->Transform(KeyframeFeatures(k).descriptors));
+}
+
+bool System::DetectAndCloseLoop(int kf) {
+  if (!LoopClosureActive()) return false;
+  const auto start = std::chrono::steady_clock::now();
+  AddToPlaceIndex(kf);
+  const BowVector& bow = *places_.Bow(kf);
+  // The floor: a share of the score against the keyframe before (the same place, a step apart).
+  const int before = window_.size() >= 2 ? window_[window_.size() - 2] : -1;
+  if (before < 0 || places_.Bow(before) == nullptr) return false;
+  const double floor = kFloorShare * Vocabulary::Score(bow, *places_.Bow(before));
+  // Keyframes the window has joined already: its own, and the hosts of the points it observes.
+  std::set<int> joined(window_.begin(), window_.end());
+  joined.insert(covisible_.begin(), covisible_.end());
+  for (int pid = 0; pid < map_.NumPoints(); ++pid) {
+    const Point& p = map_.point(pid);
+    if (p.removed || joined.count(p.host)) continue;
+    for (const Observation& o : p.observations)
+      if (!o.outlier && std::find(window_.begin(), window_.end(), o.target) != window_.end()) {
+        joined.insert(p.host);
+        break;
+      }
+  }
+  // A candidate near a joined keyframe (in its group) shows a place the map has joined already.
+  const int recent = kf - 2 * (options_.window.temporal_keyframes + options_.window.covisible_keyframes);
+  const std::vector<std::pair<double, int>> scored = places_.Query(bow, floor, [&](int k) {
+    if (k >= recent || map_.keyframe(k).retired) return true;
+    const auto near = joined.lower_bound(k - kGroupReach);
+    return near != joined.end() && *near <= k + kGroupReach;
+  });
+  // Groups of neighbours in time; each group's score is the sum of its members'.
+  struct Group {
+    int lo, hi, best;
+    double score, best_score;
+  };
+  std::vector<Group> groups;
+  for (const auto& [score, k] : scored) {
+    Group g{k - kGroupReach, k + kGroupReach, k, 0.0, score};
+    for (const auto& [s2, k2] : scored)
+      if (k2 >= g.lo && k2 <= g.hi) g.score += s2;
+    groups.push_back(g);
+  }
+  double best_group = 0.0;
+  for (const Group& g : groups) best_group = std::max(best_group, g.score);
+  std::erase_if(groups, [&](const Group& g) { return g.score < kGroupShare * best_group; });
+  // Consistency with the groups of the keyframe before.
+  std::vector<LoopGroup> now;
+  std::vector<int> to_verify;
+  for (const Group& g : groups) {
+    int count = 1;
+    for (const LoopGroup& previous : loop_groups_)
+      if (g.lo <= previous.hi && previous.lo <= g.hi) count = std::max(count, previous.count + 1);
+    now.push_back({g.lo, g.hi, count});
+    if (count == options_.loop_closure.consistent_keyframes) ++stats_.loops_detected;
+    if (count >= options_.loop_closure.consistent_keyframes) to_verify.push_back(g.best);
+  }
+  loop_groups_ = std::move(now);
+  // One loop is closed at a time: the keyframes after a closure re-observe the old place, and the
+  // loop adjustment follows.
+  if (last_loop_keyframe_ >= 0 && kf - last_loop_keyframe_ < kLoopGap) to_verify.clear();
+  for (int c : to_verify) {
+    LoopMatch match;
+    if (!VerifyLoop(kf, c, &match)) continue;
+    CorrectLoop(kf, match);
+    SystemStats::LoopClosure& closed = stats_.loops_closed.back();
+    closed.inliers = match.inliers;
+    closed.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    loop_groups_.clear();
+    last_loop_keyframe_ = kf;
+    return true;
+  }
+  return false;
+}
+
+bool System::VerifyLoop(int kf, int c, LoopMatch* match) {
+  const OrbFeatures& fk = KeyframeFeatures(kf);
+  const OrbFeatures& fc = KeyframeFeatures(c);
+  const std::vector<cv::DMatch> matches = MatchFeatures(fk, fc, {});
+  const std::vector<ReferencePoint> points_c = PointsSeenIn(c);
+  const std::vector<float> rho_k = KeypointInverseDepths(fk, PointsSeenIn(kf), {});
+  const std::vector<float> rho_c = KeypointInverseDepths(fc, points_c, {});
+  std::vector<Eigen::Vector3d> in_k, in_c;
+  for (const cv::DMatch& m : matches) {
+    const float a = rho_k[m.queryIdx], b = rho_c[m.trainIdx];
+    if (a <= 0.f || b <= 0.f) continue;
+    const cv::Point2f& u = fk.keypoints[m.queryIdx].pt;
+    const cv::Point2f& v = fc.keypoints[m.trainIdx].pt;
+    in_k.push_back(camera_.Unproject(u.x, u.y) / a);
+    in_c.push_back(camera_.Unproject(v.x, v.y) / b);
+  }
+  Sim3RansacOptions ransac;
+  ransac.min_inliers = options_.loop_closure.min_inliers;
+  const Sim3RansacResult r = EstimateSim3Ransac(in_k, in_c, camera_, ransac);  // c_from_k
+  if (!r.ok) return false;
+  // Direct alignment of the keyframe against the candidate's points, at the candidate's scale.
+  const Keyframe& k = map_.keyframe(kf);
+  const Keyframe& old = map_.keyframe(c);
+  TrackerOptions tracker_options = options_.tracker;
+  while (tracker_options.levels < options_.pyramid_levels) {
+    tracker_options.iterations.insert(tracker_options.iterations.begin() + tracker_options.levels,
+                                      tracker_options.iterations[tracker_options.levels - 1]);
+    ++tracker_options.levels;
+  }
+  const std::shared_ptr<const ImagePyramid> pyramid = old.PyramidOrRebuilt();
+  FrameTracker tracker(tracker_options);
+  tracker.SetReference(pyramid.get(), camera_, points_c);
+  const SO3d r_kc = r.b_from_a.So3().Inverse();
+  const SE3d guess(r_kc, -(r_kc * r.b_from_a.Translation()));
+  // The brightness change between the two views from their images' statistics: the keyframes'
+  // affine brightness has drifted along the loop as their poses have.
+  double alpha = 0.0, beta = 0.0;
+  ImageBrightness(k.signature, old.signature, &alpha, &beta);
+  const TrackResult t = tracker.Track(k.Pyramid(), guess, alpha, beta);
+  const SE3d change = t.frame_from_keyframe * guess.Inverse();
+  if (!t.ok || t.inlier_ratio < options_.quality.min_inlier_ratio) return false;
+  if (change.So3().Log().norm() * 180.0 / M_PI > kMaxRefineDeg ||
+      change.Translation().norm() * tracker.MeanIdepth() > kMaxRefineStep)
+    return false;
+  const double s = r.b_from_a.Scale();
+  match->candidate = c;
+  match->k_from_c = Sim3d(1.0 / s, t.frame_from_keyframe.So3(), t.frame_from_keyframe.Translation() / s);
+  match->alpha = t.alpha - std::log(k.exposure / old.exposure);
+  match->beta = t.beta;
+  match->inliers = static_cast<int>(r.inliers.size());
+  return true;
+}
+
+void System::CorrectLoop(int kf, const LoopMatch& match) {
+  const int c = match.candidate;
+  const std::vector<int> ids = AllKeyframes();
+  std::map<int, int> node;
+  std::vector<Sim3d> start;
+  for (int k : ids) node[k] = static_cast<int>(start.size()), start.emplace_back(map_.keyframe(k).cam_from_world);
+  // Edges: consecutive keyframes, and keyframes that share observations, as the map has them.
+  std::map<std::pair<int, int>, int> shared;
+  for (int pid = 0; pid < map_.NumPoints(); ++pid) {
+    const Point& p = map_.point(pid);
+    if (p.removed) continue;
+    for (const Observation& o : p.observations)
+      if (!o.outlier && !map_.keyframe(o.target).retired) ++shared[{std::min(p.host, o.target), std::max(p.host, o.target)}];
+  }
+  const int span = 2 * (options_.window.temporal_keyframes + options_.window.covisible_keyframes);
+  std::vector<PoseGraphEdge> edges;
+  const auto measured = [&](int i, int j) { return start[node[i]] * start[node[j]].Inverse(); };
+  for (size_t n = 1; n < ids.size(); ++n) edges.push_back({node[ids[n]], node[ids[n - 1]], measured(ids[n], ids[n - 1]), 1.0});
+  for (const auto& [pair, count] : shared) {
+    const auto [i, j] = pair;
+    // Keyframes far apart in time that share points were joined by re-observation, which may
+    // have held them where the drift had them when they met: the loop edge is the judge there.
+    if (count < kMinSharedPoints || !node.count(i) || !node.count(j) || j - i > span) continue;
+    const int ni = node[i], nj = node[j];
+    if (std::abs(ni - nj) == 1) continue;  // Consecutive: there already.
+    edges.push_back({nj, ni, measured(j, i), 1.0});
+  }
+  // The loop: kf to c as verified, and every other keyframe of the temporal window to c through
+  // kf (the window's own geometry), weighted so that the window lands where the verification puts
+  // it and the loop's error goes to the path between.
+  const int first_loop_edge = static_cast<int>(edges.size());
+  for (int w : window_) {
+    if (!node.count(w)) continue;
+    edges.push_back({node[w], node[c], measured(w, kf) * match.k_from_c, kLoopWeight});
+  }
+  std::vector<int> fixed;
+  for (int k : HeldWithLoaded({ids.front()})) fixed.push_back(node[k]);
+  // The path up to the keyframe, before the correction (for the correction's share of it).
+  double path = 0.0;
+  for (size_t n = 1; n < ids.size(); ++n)
+    path += (map_.keyframe(ids[n]).Centre() - map_.keyframe(ids[n - 1]).Centre()).norm();
+  const SE3d before = map_.keyframe(kf).cam_from_world;
+  const PoseGraphResult graph = OptimizePoseGraph(start, edges, fixed);
+  for (int k : ids) {
+    const Sim3d& s = graph.cam_from_world[node[k]];
+    Keyframe& keyframe = map_.keyframe(k);
+    keyframe.cam_from_world = SE3d(s.So3(), s.Translation() / s.Scale());
+    for (int pid : keyframe.points) map_.point(pid).idepth *= static_cast<float>(s.Scale());
+  }
+  // The brightness along the same edges: the map's relative brightness, and the loop's as the
+  // direct alignment found it.
+  std::vector<Eigen::Vector2d> ab;
+  for (int k : ids) ab.emplace_back(map_.keyframe(k).affine.a, map_.keyframe(k).affine.b);
+  std::vector<BrightnessEdge> brightness;
+  for (size_t n = 0; n < edges.size(); ++n) {
+    const PoseGraphEdge& e = edges[n];
+    if (static_cast<int>(n) >= first_loop_edge) {
+      if (e.i == node[kf]) brightness.push_back({e.j, e.i, match.alpha, match.beta});
+      continue;
+    }
+    const double alpha = ab[e.i].x() - ab[e.j].x();
+    brightness.push_back({e.j, e.i, alpha, ab[e.i].y() - std::exp(alpha) * ab[e.j].y()});
+  }
+  const std::vector<Eigen::Vector2d> corrected = OptimizeBrightnessGraph(ab, brightness, fixed);
+  for (int k : ids) map_.keyframe(k).affine = {corrected[node[k]].x(), corrected[node[k]].y()};
+  const SE3d& after = map_.keyframe(kf).cam_from_world;
+  SystemStats::LoopClosure closed;
+  closed.frame = map_.keyframe(kf).frame_index;
+  closed.keyframe = kf;
+  closed.candidate = c;
+  closed.translation_share = path > 0.0 ? (after.Inverse().Translation() - before.Inverse().Translation()).norm() / path : 0.0;
+  closed.rotation_deg = (after.So3() * before.So3().Inverse()).Log().norm() * 180.0 / M_PI;
+  closed.scale = graph.cam_from_world[node[kf]].Scale();
+  stats_.loops_closed.push_back(closed);
+  // The next keyframes re-observe the old points; once their covisible keyframes reach back far
+  // enough, the loop is bundle-adjusted (AdjustLoop).
+  loop_ba_pending_ = true;
+}
+
+}  // namespace dsm
