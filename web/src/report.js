@@ -162,7 +162,8 @@ const PLOTS = [
   { id: 'plot-points', title: 'Points created and re-observations per keyframe over the frame index',
     series: (d) => [
       { x: d.per_keyframe?.frame, y: d.per_keyframe?.points_created, color: '#e9c46a', label: 'points created' },
-      { x: d.per_keyframe?.frame, y: d.per_keyframe?.reobservations, color: '#e76f51', label: 're-observations' }] },
+      { x: d.per_keyframe?.frame, y: d.per_keyframe?.reobservations, color: '#e76f51', label: 're-observations' }],
+    bands: (d) => (d.loops_closed || []).map((l) => [l.frame, l.frame]) },
 ];
 
 function summaryText(d) {
@@ -207,6 +208,7 @@ class Report {
       return { ...p, canvas: element('canvas', { id: p.id, width: 560, height: 220 }, figure) };
     });
     this.lost = element('p', { id: 'lost' }, plots);
+    this.loops = element('p', { id: 'loops' }, plots);
   }
 
   update(data) {
@@ -230,6 +232,11 @@ class Report {
     this.lost.textContent = lost.length
       ? 'Lost episodes (first–last frame): ' + lost.map(([a, b]) => `${a}–${b}`).join(', ') +
         ` · ${data.summary.relocalisations} relocalised` : '';
+    const loops = data.loops_closed || [];
+    this.loops.textContent = loops.length
+      ? 'Loops closed (marked in the points plot): ' + loops.map((l) =>
+        `frame ${l.frame} with keyframe ${l.candidate_keyframe} (moved ${(100 * l.translation_share).toFixed(2)}% of the ` +
+        `path, ${l.rotation_deg.toFixed(2)}°, scale ${l.scale.toFixed(3)})`).join('; ') : '';
   }
 
   showMap() {

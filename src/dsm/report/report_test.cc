@@ -49,6 +49,8 @@ fs::path FakeRun(const std::string& name) {
                          {"pba", {{"ms", 12.5}}}},
                         {{"frame", 3}, {"points_created", 0}, {"reobservations", 2}, {"covisible", {0}},
                          {"pba", {{"ms", 20.0}}}}}},
+      {"loops_closed", {{{"frame", 3}, {"keyframe", 2}, {"candidate_keyframe", 0}, {"translation_share", 0.01},
+                         {"rotation_deg", 0.5}, {"scale", 1.02}}}},
       {"maps", {{{"dir", "."}, {"keyframes", 3}}}}};
   std::ofstream(dir / "stats.json") << stats.dump();
   return dir;
@@ -80,6 +82,8 @@ TEST(Report, DataFromTheRunFolder) {
   EXPECT_NEAR(e[2].get<double>(), 20.0, 1e-6);  // 0.01 map units x 2 m per unit.
   EXPECT_EQ(d["per_keyframe"]["pba_ms"], json({0.0, 12.5, 20.0}));
   EXPECT_EQ(d["per_frame"]["tracking_ms"].size(), 4u);
+  ASSERT_EQ(d["loops_closed"].size(), 1u);
+  EXPECT_EQ(d["loops_closed"][0]["candidate_keyframe"], 0);
 }
 
 TEST(Report, PageInlinesDataAndScriptSafely) {

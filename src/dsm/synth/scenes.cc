@@ -180,12 +180,42 @@ Eigen::Vector2d AlongBlockRing(double s) {
   return p;
 }
 
+// Two identical halves of a corridor, each 10 m long and closed by a partition with a door
+// (perceptual aliasing): the walls, floor and ceiling repeat every 10 m (their textures' periods
+// divide it) and the same furniture stands at the same places in both halves.
+void TwinCorridor(std::mt19937& rng, Scene* scene) {
+  scene->AddRoom({0, -1.5f, 0}, {21, 1.5f, 2.8f},
+                 {MakeTexture(rng, 0.5f, 0.3f, 1.0f), MakeTexture(rng, 0.55f, 0.3f, 1.0f),
+                  MakeTexture(rng, 0.5f, 0.35f, 1.25f, 0.f, 0.3f), MakeTexture(rng, 0.55f, 0.35f, 1.25f, 1.25f),
+                  MakeTexture(rng, 0.4f, 0.3f, 1.0f, 0.5f), MakeTexture(rng, 0.7f, 0.25f, 1.25f, 0.f, 0.4f)});
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  std::vector<std::pair<Eigen::Vector3f, Eigen::Vector3f>> boxes;
+  std::vector<Texture> textures;
+  for (int i = 0; i < 6; ++i) {
+    const float x = 0.5f + 1.5f * i + 0.5f * u(rng), side = i % 2 ? 1.f : -1.f;
+    const float depth = 0.2f + 0.3f * u(rng), height = 0.6f + 1.6f * u(rng), width = 0.5f + 0.6f * u(rng);
+    const Eigen::Vector3f lo(x, side > 0 ? 1.5f - depth : -1.5f, 0.f);
+    boxes.emplace_back(lo, lo + Eigen::Vector3f(width, depth, height));
+    textures.push_back(MakeTexture(rng, 0.3f + 0.4f * u(rng), 0.3f, 0.3f + 0.4f * u(rng)));
+  }
+  // A partition with a door (1 m wide, 2.1 m high) at the end of each half.
+  const Texture partition = MakeTexture(rng, 0.5f, 0.3f, 1.0f);
+  boxes.emplace_back(Eigen::Vector3f(9.8f, -1.5f, 0.f), Eigen::Vector3f(10.f, -0.5f, 2.8f));
+  boxes.emplace_back(Eigen::Vector3f(9.8f, 0.5f, 0.f), Eigen::Vector3f(10.f, 1.5f, 2.8f));
+  boxes.emplace_back(Eigen::Vector3f(9.8f, -0.5f, 2.1f), Eigen::Vector3f(10.f, 0.5f, 2.8f));
+  for (int i = 0; i < 3; ++i) textures.push_back(partition);
+  for (const float offset : {0.f, 10.f})
+    for (size_t i = 0; i < boxes.size(); ++i)
+      scene->AddBox(boxes[i].first + Eigen::Vector3f(offset, 0, 0), boxes[i].second + Eigen::Vector3f(offset, 0, 0),
+                    textures[i]);
+}
+
 // Smooth there-and-back profile: 0 -> 1 -> 0 over tau in [0, 1] with zero speed at the ends.
 double ThereAndBack(double tau) { return 0.5 - 0.5 * std::cos(kTwoPi * tau); }
 
 }  // namespace
 
-std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan", "block"};
+std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan", "block", "twins"};
 }
 
 std::string SceneNameList(const std::string& separator, const std::string& last) {
@@ -199,6 +229,7 @@ int DefaultFrames(const std::string& scene) {
   if (scene == "loop" || scene == "exposure" || scene == "orbit") return 600;
   if (scene == "forward") return 400;
   if (scene == "block") return 1200;
+  if (scene == "twins") return 340;
   return 300;
 }
 
@@ -243,6 +274,8 @@ SynthSequence MakeSequence(const SynthOptions& options) {
     Corridor(rng, &seq.scene);
   } else if (name == "orbit") {
     OrbitRoom(rng, &seq.scene);
+  } else if (name == "twins") {
+    TwinCorridor(rng, &seq.scene);
   } else if (name == "block") {
     BlockRing(rng, &seq.scene);
     seq.scene.TurnTextures();
@@ -276,6 +309,11 @@ SynthSequence MakeSequence(const SynthOptions& options) {
       const double sway = 0.17 * std::sin(kTwoPi * 0.27 * t_s + 0.4);
       const Eigen::Vector3d tangent(-std::sin(a), std::cos(a), 0.0);
       target = Eigen::Vector3d(0.0, 0.0, 0.95) + 1.6 * sway * tangent + 0.12 * look_jitter.At(t_s);
+    } else if (name == "twins") {
+      // Down the corridor at 1 m/s from x = 0.8 m, looking ahead: the second half shows again, 10 m
+      // on, what the first showed.
+      position = Eigen::Vector3d(0.8 + t_s, 0.05 * std::sin(kTwoPi * 0.15 * t_s), 1.4) + 0.02 * jitter.At(t_s);
+      target = position + Eigen::Vector3d(1.0, 0.1 * std::sin(kTwoPi * 0.11 * t_s), -0.08) + 0.03 * look_jitter.At(t_s);
     } else if (name == "block") {
       // Walking around the ring at 1.5 m/s, looking at the centre line 2 m ahead: a lap takes 44 s,
       // the default length goes on for a fifth of a lap past the start.

@@ -13,6 +13,8 @@
 //             almost no translation (a hard start), then a slow walk back
 //   block     a 98 m lap of a ring corridor around a building block, and a fifth of a lap more:
 //             the drift of a long loop is far beyond what re-observation alone can close
+//   twins     down a corridor whose second half is an exact copy of its first (perceptual
+//             aliasing: a place that looks seen before but is not)
 #pragma once
 
 #include <cstdint>

@@ -227,7 +227,7 @@ void System::AcceptPose(FrameWork* f) {
   last_frame_keyframe_ = -1;
   f->report.status = TrackingStatus::kOk;
   ++stats_.frames_tracked;
-  frames_.push_back({f->t_ns, reference_->keyframe, result.frame_from_keyframe});
+  frames_.push_back({f->t_ns, reference_->keyframe, result.frame_from_keyframe, 0.0, reference_->scale});
   if (pose_listener_ && !f->report.posed_before_wait) pose_listener_(f->index, *LastFramePose());
   stats_.tracking_ms.push_back(f->report.tracking_ms);
 }
@@ -485,6 +485,8 @@ Trajectory System::FrameTrajectory() const {
     SE3d frame_from_reference = f.frame_from_reference;
     if (f.init_baseline > 0.0)
       frame_from_reference.SetTranslation(frame_from_reference.Translation() * (baseline / f.init_baseline));
+    frame_from_reference.SetTranslation(frame_from_reference.Translation() *
+                                        (f.reference_scale / KeyframeScale(f.reference)));
     t.Add(f.t_ns, (frame_from_reference * map_.keyframe(f.reference).cam_from_world).Inverse());
   }
   return t;

@@ -210,6 +210,9 @@ class System {
     // (held fixed), by ~5% on a hand-held start, so the frame's offset from its keyframe (0 or 1)
     // is scaled by that distance's change.
     double init_baseline = 0.0;
+    // The reference keyframe's scale (keyframe_scale_) when the frame was tracked: a loop closure
+    // that rescales the keyframe later scales the frame's offset from it alike.
+    double reference_scale = 1.0;
   };
   struct PendingFrame {
     int index;
@@ -244,6 +247,7 @@ class System {
     std::vector<double> exposure;
     int map_points = 0;  // Live points of the map then.
     double texture = 0.0;  // The keyframe's (FrameSignature::texture).
+    double scale = 1.0;    // The keyframe's keyframe_scale_ then.
     std::shared_ptr<const MapSnapshot> snapshot;  // With SystemOptions::map_snapshots.
   };
 
@@ -574,6 +578,10 @@ class System {
   };
   std::vector<LoopGroup> loop_groups_;
   int last_loop_keyframe_ = -1;  // The keyframe that closed the last loop (-1: none).
+  // Per keyframe id: the product of the scales loop closures gave it (its hosted geometry is that
+  // much smaller than when it was mapped); missing entries are 1.
+  std::vector<double> keyframe_scale_;
+  double KeyframeScale(int k) const { return k < static_cast<int>(keyframe_scale_.size()) ? keyframe_scale_[k] : 1.0; }
   std::vector<std::vector<int>> loaded_covisibility_;
   double loaded_speed_ = 0.0;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.

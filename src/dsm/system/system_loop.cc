@@ -15,7 +15,9 @@
 //    depths from the map points near each keypoint in both views; RANSAC on a Sim(3) between the
 //    two cameras (geometry/sim3_ransac.h) needs min_inliers, then the keyframe's image is aligned
 //    directly against the candidate's points from that pose (the frame tracker, over the whole
-//    pyramid) and must pass the quality test's inlier share and stay near the feature pose.
+//    pyramid) and must pass the quality test's inlier share and stay near the feature pose. The
+//    keyframe may not move by more than a tenth of the path since the candidate: drift is a few
+//    percent of the path, and a larger jump is a place that looks the same (perceptual aliasing).
 // 3. Correction. A Sim(3) pose graph (optimization/pose_graph.h) over every keyframe: edges
 //    between consecutive keyframes and between keyframes that share at least kMinSharedPoints
 //    observations, measured at the poses before, and the loop edge k_from_c; the first keyframe
@@ -43,6 +45,7 @@ namespace {
 constexpr double kFloorShare = 0.8;      // Of the score against the keyframe before.
 constexpr int kGroupReach = 3;           // A candidate's group: keyframes this many ids either side.
 constexpr double kGroupShare = 0.75;     // Groups kept: at least this share of the best group's score.
+constexpr double kMaxCorrectionShare = 0.1;  // Of the path since the candidate.
 constexpr int kLoopGap = 10;            // Keyframes after a closure before the next one.
 constexpr double kLoopWeight = 10.0;     // Of the loop's pose-graph edges against the map's.
 constexpr int kMinSharedPoints = 50;     // Observations that make a pose-graph edge between two keyframes.
@@ -127,6 +130,18 @@ bool System::DetectAndCloseLoop(int kf) {
   for (int c : to_verify) {
     LoopMatch match;
     if (!VerifyLoop(kf, c, &match)) continue;
+    // How far the loop would move the keyframe, as a share of the path since the candidate: drift
+    // of a few percent is closed; a place tens of percent of the path away is another place that
+    // looks the same (a twin room, the next floor of a building), whatever the views say.
+    const Eigen::Vector3d moved_to =
+        (match.k_from_c * Sim3d(map_.keyframe(c).cam_from_world)).Inverse().Translation();
+    double path = 0.0;
+    for (int k = c + 1, prev = c; k <= kf; ++k) {
+      if (map_.keyframe(k).retired) continue;
+      path += (map_.keyframe(k).Centre() - map_.keyframe(prev).Centre()).norm();
+      prev = k;
+    }
+    if ((moved_to - map_.keyframe(kf).Centre()).norm() > kMaxCorrectionShare * path) continue;
     CorrectLoop(kf, match);
     SystemStats::LoopClosure& closed = stats_.loops_closed.back();
     closed.inliers = match.inliers;
@@ -239,6 +254,8 @@ void System::CorrectLoop(int kf, const LoopMatch& match) {
     Keyframe& keyframe = map_.keyframe(k);
     keyframe.cam_from_world = SE3d(s.So3(), s.Translation() / s.Scale());
     for (int pid : keyframe.points) map_.point(pid).idepth *= static_cast<float>(s.Scale());
+    if (k >= static_cast<int>(keyframe_scale_.size())) keyframe_scale_.resize(k + 1, 1.0);
+    keyframe_scale_[k] *= s.Scale();
   }
   // The brightness along the same edges: the map's relative brightness, and the loop's as the
   // direct alignment found it.

@@ -487,6 +487,7 @@ std::shared_ptr<const System::TrackingReference> System::MakeReference(
   }
   ref->map_points = map_.NumLivePoints();
   ref->texture = map_.keyframe(kf).signature.texture;
+  ref->scale = KeyframeScale(kf);
   if (options_.map_snapshots) {
     auto snapshot = std::make_shared<MapSnapshot>();
     snapshot->points = LivePoints(map_, camera_);
