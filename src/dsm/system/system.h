@@ -478,6 +478,7 @@ class System {
     Sim3d k_from_c;
     double alpha = 0.0, beta = 0.0;
     int inliers = 0;
+    double shift_px = 0.0;  // Median move of the candidate's points in kf that the loop makes.
   };
   bool VerifyLoop(int kf, int c, LoopMatch* match);
   // The pose and brightness graphs with the loop edge; every keyframe and its points moved

@@ -18,6 +18,8 @@
 //    pyramid) and must pass the quality test's inlier share and stay near the feature pose. The
 //    keyframe may not move by more than a tenth of the path since the candidate: drift is a few
 //    percent of the path, and a larger jump is a place that looks the same (perceptual aliasing).
+//    Nor is a loop closed whose correction moves the candidate's points in the keyframe by less
+//    than kReobservePx: re-observation joins the two passes from there by itself.
 // 3. Correction. A Sim(3) pose graph (optimization/pose_graph.h) over every keyframe: edges
 //    between consecutive keyframes and between keyframes that share at least kMinSharedPoints
 //    observations, measured at the poses before, and the loop edge k_from_c; the first keyframe
@@ -37,6 +39,7 @@
 #include "dsm/system/system_internal.h"
 #include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
+#include "dsm/util/median.h"
 
 namespace dsm {
 
@@ -46,6 +49,7 @@ constexpr double kFloorShare = 0.8;      // Of the score against the keyframe be
 constexpr int kGroupReach = 3;           // A candidate's group: keyframes this many ids either side.
 constexpr double kGroupShare = 0.75;     // Groups kept: at least this share of the best group's score.
 constexpr double kMaxCorrectionShare = 0.1;  // Of the path since the candidate.
+constexpr double kReobservePx = 4.0;     // A loop this near is left to re-observation.
 constexpr int kLoopGap = 10;            // Keyframes after a closure before the next one.
 constexpr double kLoopWeight = 10.0;     // Of the loop's pose-graph edges against the map's.
 constexpr int kMinSharedPoints = 50;     // Observations that make a pose-graph edge between two keyframes.
@@ -142,6 +146,7 @@ bool System::DetectAndCloseLoop(int kf) {
       prev = k;
     }
     if ((moved_to - map_.keyframe(kf).Centre()).norm() > kMaxCorrectionShare * path) continue;
+    if (match.shift_px < kReobservePx) continue;
     CorrectLoop(kf, match);
     SystemStats::LoopClosure& closed = stats_.loops_closed.back();
     closed.inliers = match.inliers;
@@ -197,7 +202,28 @@ bool System::VerifyLoop(int kf, int c, LoopMatch* match) {
   if (change.So3().Log().norm() * 180.0 / M_PI > kMaxRefineDeg ||
       change.Translation().norm() * tracker.MeanIdepth() > kMaxRefineStep)
     return false;
-  const double s = r.b_from_a.Scale();
+  // Where the candidate's points land in kf with the pose it has and with the loop's: when they
+  // land within reach of the photometric alignment, re-observation joins the two passes by
+  // itself, with the bundle adjustment's accuracy, and the loop is left to it.
+  const SE3d k_from_c_now = k.cam_from_world * old.cam_from_world.Inverse();
+  std::vector<float> shifts;
+  for (const ReferencePoint& p : points_c) {
+    const Eigen::Vector3d x = camera_.Unproject(p.pixel.x(), p.pixel.y()) / p.idepth;
+    const Eigen::Vector3d now = k_from_c_now * x, loop = t.frame_from_keyframe * x;
+    if (now.z() <= 0.0 || loop.z() <= 0.0) continue;
+    shifts.push_back(static_cast<float>((camera_.Project(now) - camera_.Project(loop)).norm()));
+  }
+  match->shift_px = shifts.empty() ? 0.0 : Median(shifts);
+  // The scale between the two: the median ratio of each inlier's depth in kf as the candidate's
+  // map has it (through the aligned pose) to its depth in kf's own map. Umeyama's least squares
+  // over the 3D points weighs the far ones, whose depths are the least certain, the most.
+  std::vector<double> ratios;
+  for (int i : r.inliers) {
+    const double z = (t.frame_from_keyframe * in_c[i]).z();
+    if (z > 0.0) ratios.push_back(z / in_k[i].z());
+  }
+  if (ratios.size() < static_cast<size_t>(options_.loop_closure.min_inliers)) return false;
+  const double s = Median(ratios);
   match->candidate = c;
   match->k_from_c = Sim3d(1.0 / s, t.frame_from_keyframe.So3(), t.frame_from_keyframe.Translation() / s);
   match->alpha = t.alpha - std::log(k.exposure / old.exposure);
