@@ -33,7 +33,7 @@ std::string Format(T v) {
 }
 std::string Format(int v) { return std::to_string(v); }
 std::string Format(bool v) { return v ? "true" : "false"; }
-std::string Format(const std::string& v) { return v; }
+std::string Format(const std::string& v) { return v.empty() ? "\"\"" : v; }  // "" reads back as empty, not null.
 std::string Format(const std::vector<int>& v) {
   std::string text = "[";
   for (size_t i = 0; i < v.size(); ++i) text += (i ? ", " : "") + std::to_string(v[i]);

@@ -64,8 +64,8 @@ TEST(OptionsYaml, PrintedOptionsReadBackTheSame) {
     ++keys;
     EXPECT_TRUE(std::regex_match(line, key_line)) << line;
   }
-  EXPECT_EQ(keys, 58);
-  EXPECT_EQ(sections, 12);
+  EXPECT_EQ(keys, 62);
+  EXPECT_EQ(sections, 13);
   SystemOptions back;
   back.pba.levels = 1;  // Overwritten by the text.
   ApplyOptionsText(text, "printed", &back);

@@ -75,7 +75,10 @@ class EveryScene : public ::testing::TestWithParam<std::string> {
 
 TEST_P(EveryScene, WarpingWithTrueDepthAndPosesReproducesTheFrame) {
   const SynthSequence seq = Sequence();
-  for (const auto& [a, b] : {std::pair<size_t, size_t>{0, 4}, {100, 103}, {200, 210}}) {
+  for (auto [a, b] : {std::pair<size_t, size_t>{0, 4}, {100, 103}, {200, 210}}) {
+    // At most 0.3 m apart: walking down a corridor, the footprint of the band-limited textures
+    // changes with the distance, and with it what a pixel sees.
+    while (b > a + 1 && (seq.world_from_cam[b].Translation() - seq.world_from_cam[a].Translation()).norm() > 0.3) --b;
     const WarpError e = Warp(seq, a, b);
     EXPECT_GT(e.pixels, 5000u) << a << " -> " << b;
     EXPECT_LT(e.mean_abs, 3.0) << a << " -> " << b;

@@ -102,6 +102,9 @@ void System::RestoreMap(StoredMap stored, LoadedMapUse use) {
   std::vector<OrbFeatures> features(loaded_keyframes_);
   tbb::parallel_for(0, loaded_keyframes_, [&](int k) { features[k] = DetectOrbFeatures(map_.keyframe(k).Level0(), {}); });
   for (int k = 0; k < loaded_keyframes_; ++k) keyframe_features_.emplace(k, std::move(features[k]));
+  // Loop closure recognises the loaded map's places as well as the run's own.
+  if (LoopClosureActive())
+    for (int k = 0; k < loaded_keyframes_; ++k) AddToPlaceIndex(k);
   Transition(TrackingEvent::kMapLoaded);
   suspended_ = true;
   if (localizing_) loaded_as_ = std::move(stored);  // All but its map, given back by TakeStoredMap.
@@ -115,6 +118,7 @@ void System::RetireTemporaries(int newest) {
     map_.Retire(k);
     candidates_.erase(k);
     keyframe_features_.erase(k);
+    places_.Remove(k);
     ++retired_keyframes_;
   }
 }
