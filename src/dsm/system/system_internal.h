@@ -7,8 +7,19 @@
 
 #include "dsm/lie/se3.h"
 #include "dsm/photometric/residual.h"
+#include "dsm/tracking/frame_tracker.h"
 
 namespace dsm::internal {
+
+// `tracker` over `levels` pyramid levels, the coarser ones added with the iterations of its
+// coarsest: for an alignment from far away (relocalisation, a loop's verification).
+inline TrackerOptions OverLevels(TrackerOptions tracker, int levels) {
+  while (tracker.levels < levels) {
+    tracker.iterations.insert(tracker.iterations.begin() + tracker.levels, tracker.iterations[tracker.levels - 1]);
+    ++tracker.levels;
+  }
+  return tracker;
+}
 
 inline double MsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

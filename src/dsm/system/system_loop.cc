@@ -181,12 +181,7 @@ bool System::VerifyLoop(int kf, int c, LoopMatch* match) {
   // Direct alignment of the keyframe against the candidate's points, at the candidate's scale.
   const Keyframe& k = map_.keyframe(kf);
   const Keyframe& old = map_.keyframe(c);
-  TrackerOptions tracker_options = options_.tracker;
-  while (tracker_options.levels < options_.pyramid_levels) {
-    tracker_options.iterations.insert(tracker_options.iterations.begin() + tracker_options.levels,
-                                      tracker_options.iterations[tracker_options.levels - 1]);
-    ++tracker_options.levels;
-  }
+  const TrackerOptions tracker_options = internal::OverLevels(options_.tracker, options_.pyramid_levels);
   const std::shared_ptr<const ImagePyramid> pyramid = old.PyramidOrRebuilt();
   FrameTracker tracker(tracker_options);
   tracker.SetReference(pyramid.get(), camera_, points_c);

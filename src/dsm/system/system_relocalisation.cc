@@ -167,12 +167,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   const SE3d moved = internal::Scale(track_.velocity, since);
   const SE3d half = internal::Scale(track_.velocity, 0.5 * since);
   // Coarse to fine over the whole pyramid: the frame may be far from every keyframe.
-  TrackerOptions tracker_options = options_.tracker;
-  while (tracker_options.levels < options_.pyramid_levels) {
-    tracker_options.iterations.insert(tracker_options.iterations.begin() + tracker_options.levels,
-                                      tracker_options.iterations[tracker_options.levels - 1]);
-    ++tracker_options.levels;
-  }
+  const TrackerOptions tracker_options = internal::OverLevels(options_.tracker, options_.pyramid_levels);
 
   OrbFeatures frame_features;
   std::map<int, std::vector<cv::DMatch>> matches;
