@@ -322,6 +322,9 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
   WriteText(dir / "bad_value.yaml", "window: {temporal_keyframes: 1}\n");
   WriteText(dir / "bad_interpolation.yaml", "system: {interpolation: bicubic}\n");
   WriteText(dir / "bad_texture_loss.yaml", "system: {texture_loss_min_noise: -1}\n");
+  WriteText(dir / "no_vocabulary.yaml", "loop_closure: {vocabulary: " + (dir / "none.voc").string() + "}\n");
+  WriteText(dir / "bad.voc", "DSMVOC01 but not a vocabulary");
+  WriteText(dir / "bad_vocabulary.yaml", "loop_closure: {vocabulary: " + (dir / "bad.voc").string() + "}\n");
   WriteText(dir / "badcam" / "camera.yaml", "model: pinhole\nwidth: 640\nheight: 480\nintrinsics: [400, 400, 320]\n");
   ASSERT_EQ(RunDsm("synth --scene shake --frames 2 --width 160 --height 120 --out " + (dir / "generic").string()).code, 0);
   // A calibration whose size fits no frame of the recording: the generic scene's images, 640x480 in
@@ -393,6 +396,12 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --config " +
            (dir / "bad_texture_loss.yaml").string(),
        "system.texture_loss_min_noise must be non-negative"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --out " + (dir / "o").string() + " --config " +
+           (dir / "no_vocabulary.yaml").string(),
+       "none.voc: cannot open the vocabulary file"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --out " + (dir / "o").string() + " --config " +
+           (dir / "bad_vocabulary.yaml").string(),
+       "bad.voc: not a dsm vocabulary file"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 500 --out " + (dir / "o").string(), "--start"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gt-frame imu", "--gt-frame"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --view-wait 5", "--view-wait needs --view"},
