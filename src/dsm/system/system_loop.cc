@@ -56,6 +56,17 @@ constexpr int kMinSharedPoints = 50;     // Observations that make a pose-graph 
 constexpr double kMaxRefineDeg = 5.0;    // The direct alignment stays this near the feature pose ...
 constexpr double kMaxRefineStep = 0.2;   // ... and this near over the candidate's mean depth.
 
+// The distance the centres of keyframes `from` .. `to` travel, the retired ones left out.
+double PathBetween(const Map& map, int from, int to) {
+  double path = 0.0;
+  for (int k = from + 1, prev = from; k <= to; ++k) {
+    if (map.keyframe(k).retired) continue;
+    path += (map.keyframe(k).Centre() - map.keyframe(prev).Centre()).norm();
+    prev = k;
+  }
+  return path;
+}
+
 }  // namespace
 
 const OrbFeatures& System::KeyframeFeatures(int k) {
@@ -82,33 +93,37 @@ bool System::DetectAndCloseLoop(int kf) {
   const int before = window_.size() >= 2 ? window_[window_.size() - 2] : -1;
   if (before < 0 || places_.Bow(before) == nullptr) return false;
   const double floor = kFloorShare * Vocabulary::Score(bow, *places_.Bow(before));
-  // Keyframes the window has joined already: its own, and the hosts of the points it observes.
-  std::set<int> joined(window_.begin(), window_.end());
-  joined.insert(covisible_.begin(), covisible_.end());
-  for (int pid = 0; pid < map_.NumPoints(); ++pid) {
-    const Point& p = map_.point(pid);
-    if (p.removed || joined.count(p.host)) continue;
-    for (const Observation& o : p.observations)
-      if (!o.outlier && std::find(window_.begin(), window_.end(), o.target) != window_.end()) {
-        joined.insert(p.host);
-        break;
-      }
-  }
-  // A candidate near a joined keyframe (in its group) shows a place the map has joined already.
   const int recent = kf - 2 * (options_.window.temporal_keyframes + options_.window.covisible_keyframes);
-  const std::vector<std::pair<double, int>> scored = places_.Query(bow, floor, [&](int k) {
-    if (k >= recent || map_.keyframe(k).retired) return true;
-    const auto near = joined.lower_bound(k - kGroupReach);
-    return near != joined.end() && *near <= k + kGroupReach;
-  });
+  std::vector<std::pair<double, int>> scored = places_.Query(
+      bow, floor, [&](int k) { return k >= recent || map_.keyframe(k).retired; });
+  if (!scored.empty()) {
+    // Keyframes the window has joined already: its own, and the hosts of the points it observes
+    // (a scan of the map, made only when there are candidates to judge). A candidate near one of
+    // them (in its group) shows a place the map has joined already.
+    std::set<int> joined(window_.begin(), window_.end());
+    joined.insert(covisible_.begin(), covisible_.end());
+    for (int pid = 0; pid < map_.NumPoints(); ++pid) {
+      const Point& p = map_.point(pid);
+      if (p.removed || joined.count(p.host)) continue;
+      for (const Observation& o : p.observations)
+        if (!o.outlier && std::find(window_.begin(), window_.end(), o.target) != window_.end()) {
+          joined.insert(p.host);
+          break;
+        }
+    }
+    std::erase_if(scored, [&](const std::pair<double, int>& candidate) {
+      const auto near = joined.lower_bound(candidate.second - kGroupReach);
+      return near != joined.end() && *near <= candidate.second + kGroupReach;
+    });
+  }
   // Groups of neighbours in time; each group's score is the sum of its members'.
   struct Group {
     int lo, hi, best;
-    double score, best_score;
+    double score;
   };
   std::vector<Group> groups;
   for (const auto& [score, k] : scored) {
-    Group g{k - kGroupReach, k + kGroupReach, k, 0.0, score};
+    Group g{k - kGroupReach, k + kGroupReach, k, 0.0};
     for (const auto& [s2, k2] : scored)
       if (k2 >= g.lo && k2 <= g.hi) g.score += s2;
     groups.push_back(g);
@@ -139,13 +154,7 @@ bool System::DetectAndCloseLoop(int kf) {
     // looks the same (a twin room, the next floor of a building), whatever the views say.
     const Eigen::Vector3d moved_to =
         (match.k_from_c * Sim3d(map_.keyframe(c).cam_from_world)).Inverse().Translation();
-    double path = 0.0;
-    for (int k = c + 1, prev = c; k <= kf; ++k) {
-      if (map_.keyframe(k).retired) continue;
-      path += (map_.keyframe(k).Centre() - map_.keyframe(prev).Centre()).norm();
-      prev = k;
-    }
-    if ((moved_to - map_.keyframe(kf).Centre()).norm() > kMaxCorrectionShare * path) continue;
+    if ((moved_to - map_.keyframe(kf).Centre()).norm() > kMaxCorrectionShare * PathBetween(map_, c, kf)) continue;
     if (match.shift_px < kReobservePx) continue;
     CorrectLoop(kf, match);
     SystemStats::LoopClosure& closed = stats_.loops_closed.back();
@@ -265,9 +274,7 @@ void System::CorrectLoop(int kf, const LoopMatch& match) {
   std::vector<int> fixed;
   for (int k : HeldWithLoaded({ids.front()})) fixed.push_back(node[k]);
   // The path up to the keyframe, before the correction (for the correction's share of it).
-  double path = 0.0;
-  for (size_t n = 1; n < ids.size(); ++n)
-    path += (map_.keyframe(ids[n]).Centre() - map_.keyframe(ids[n - 1]).Centre()).norm();
+  const double path = PathBetween(map_, ids.front(), kf);
   const SE3d before = map_.keyframe(kf).cam_from_world;
   const PoseGraphResult graph = OptimizePoseGraph(start, edges, fixed);
   for (int k : ids) {
