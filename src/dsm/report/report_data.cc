@@ -183,6 +183,11 @@ json ReportData(const fs::path& run_dir) {
   int64_t t0_ns = 0;  // Times from the first map's first tracked frame (or keyframe).
   size_t row = 0;
   for (size_t k = 0; k < maps.size(); ++k) {
+    const size_t n = Get(maps[k], "keyframes", rows.size());
+    json slice = json::array();
+    for (size_t i = row; i < std::min(rows.size(), row + n); ++i) slice.push_back(rows[i]);
+    row += n;
+    if (maps[k].contains("merged_into")) continue;  // Written with the map that took it in.
     const std::string name = maps[k].value("dir", ".");
     const MapFiles files = ReadMapFiles(run_dir / name);
     if (k == 0) {
@@ -195,10 +200,6 @@ json ReportData(const fs::path& run_dir) {
         summary["keyframe_ate_mm"] = 1000.0 * files.eval["keyframes"]["ape"]["rmse"].get<double>();
       }
     }
-    const size_t n = Get(maps[k], "keyframes", rows.size());
-    json slice = json::array();
-    for (size_t i = row; i < std::min(rows.size(), row + n); ++i) slice.push_back(rows[i]);
-    row += n;
     // A new map that never started while the camera went on in a loaded one (dsm run --load-map).
     if (n == 0 && !Get(maps[k], "loaded", false) && k > 0 && files.frames.empty()) continue;
     data["maps"].push_back(MapOf(run_dir / name, name, files, slice, t0_ns, &data["errors"], static_cast<int>(k),

@@ -150,7 +150,8 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     all.pyramids_rebuilt += s.pyramids_rebuilt;
     all.keyframes_culled += s.keyframes_culled;
     all.loops_detected += s.loops_detected;
-    all.loops_closed.insert(all.loops_closed.end(), s.loops_closed.begin(), s.loops_closed.end());
+    append(&all.loops_closed, s.loops_closed);
+    append(&all.maps_merged, s.maps_merged);
     all.points_rehosted += s.points_rehosted;
     all.points_dropped += s.points_dropped;
     all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);

@@ -32,6 +32,7 @@ struct MapRun {
   int loaded_keyframes = 0;  // Of a map loaded from a map file (System::RestoreMap).
   int loaded_points = 0;
   int retired_keyframes = 0;  // Temporary keyframes of a localisation (RunOptions::localize).
+  int merged_into = -1;       // The map that took it in (map_set.h; -1: none): nothing written.
   // Corners of the box around its points (world, the map's scale); min > max when it has none.
   Eigen::Vector3f bounds_min = Eigen::Vector3f::Constant(INFINITY), bounds_max = -bounds_min;
   Trajectory keyframes, frames;

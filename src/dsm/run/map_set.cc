@@ -17,6 +17,29 @@ MapSet::MapSet(Factory make, Closer close, std::vector<std::unique_ptr<System>> 
   current_ = NewEntry();
 }
 
+void MapSet::SetMergeSources() {
+  std::vector<std::pair<int, System*>> sources;
+  for (Entry& e : suspended_)
+    if (e.id >= loaded_) sources.emplace_back(e.id, e.system.get());
+  current_.system->SetMergeSources(sources);
+}
+
+void MapSet::MergeIfReady() {
+  const int source = current_.system->MergeReady();
+  if (source < 0 || waiting_) return;
+  const auto it = std::find_if(suspended_.begin(), suspended_.end(), [&](const Entry& e) { return e.id == source; });
+  if (it == suspended_.end() || !current_.system->MergeVerified(std::max(source, current_.id))) return;
+  Entry taken = std::move(*it);
+  suspended_.erase(it);
+  current_.spans.insert(current_.spans.end(), taken.spans.begin(), taken.spans.end());
+  std::sort(current_.spans.begin(), current_.spans.end());
+  taken.spans.clear();
+  if (taken.id < current_.id) std::swap(taken.id, current_.id);
+  taken.merged_into = current_.id;
+  merged_.push_back(std::move(taken));
+  SetMergeSources();
+}
+
 bool MapSet::TrySuspended() const {
   if (current_status_ != TrackingStatus::kOk) return true;
   return loaded_ > 0 && !in_loaded_map_ && current_.system->Young();
@@ -55,13 +78,14 @@ std::vector<MapSet::Settled> MapSet::Process(int index, int64_t t_ns, const Imag
     if (r.resumed) {
       // The camera is back in that map: it takes both frames and the frames after them.
       current_.open = false;
-      close_(current_.id, *current_.system, current_.spans);
+      close_(current_.id, *current_.system, current_.spans, -1);
       current_ = std::move(back);
       in_loaded_map_ = in_loaded_map_ || current_.id < loaded_;
       suspended_.erase(suspended_.begin() + static_cast<long>(w.suspended));
       Note(&current_, w.index);
       Note(&current_, index);
       current_status_ = r.status;
+      SetMergeSources();
       out.push_back({w.report, current_.id});
       out.push_back({r, current_.id});
       return out;
@@ -77,6 +101,8 @@ std::vector<MapSet::Settled> MapSet::Process(int index, int64_t t_ns, const Imag
     return out;
   }
   if (TrySuspended()) {
+    // The current map's mapping side may be reading the suspended maps (merge detection).
+    if (current_status_ != TrackingStatus::kOk) current_.system->Finish();
     for (size_t k = suspended_.size(); k-- > 0;) {
       FrameReport r = suspended_[k].system->Process(index, t_ns, image, exposure_ms, wait_until);
       if (r.relocalised) {
@@ -86,6 +112,7 @@ std::vector<MapSet::Settled> MapSet::Process(int index, int64_t t_ns, const Imag
     }
   }
   out.push_back(TakeCurrent(index, t_ns, image, exposure_ms, wait_until));
+  MergeIfReady();
   return out;
 }
 
@@ -106,18 +133,21 @@ void MapSet::StartNewMap() {
   suspended_.push_back(std::move(current_));
   current_ = NewEntry();
   current_status_ = TrackingStatus::kInitializing;
+  SetMergeSources();
 }
 
 void MapSet::Close() {
   std::vector<Entry*> all = {&current_};
   for (Entry& e : suspended_) all.push_back(&e);
+  for (Entry& e : merged_) all.push_back(&e);
   std::sort(all.begin(), all.end(), [](const Entry* a, const Entry* b) { return a->id < b->id; });
   for (Entry* e : all) {
     e->open = false;
-    close_(e->id, *e->system, e->spans);
+    close_(e->id, *e->system, e->spans, e->merged_into);
     e->system.reset();
   }
   suspended_.clear();
+  merged_.clear();
 }
 
 }  // namespace dsm

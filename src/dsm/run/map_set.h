@@ -9,6 +9,12 @@
 // are the suspended map's, it becomes the current map again (the camera is back where it was
 // mapped) and the map it replaces ends; withdrawn, the current map takes both frames in order.
 // Each frame thus belongs to exactly one map, and a map's frames may come in several spans.
+// While the current map tracks, its new keyframes are compared with the suspended maps this run
+// made (System::SetMergeSources: place recognition and verification on its mapping side); when
+// one is recognised, the current map takes it in (System::MergeVerified) and the two go on as one,
+// under the smaller of their ids (the first map's output folder keeps the whole trajectory); the
+// map taken in ends without frames or keyframes of its own (Closer's `merged_into`). A suspended
+// map is used by this thread only after the current map's mapping side has finished (Finish).
 // Maps loaded from a map file (System::RestoreMap) start as suspended maps, before the first new
 // one: the camera is taken to be in one of them as soon as it relocalises there. Until it has been
 // in one, they are tried while the current map is young too (System::Young): a map started where
@@ -35,8 +41,10 @@ class MapSet {
   using Spans = std::vector<std::pair<int, int>>;
   using Factory = std::function<std::unique_ptr<System>()>;
   // Called once per map when it ends for good (replaced by a resumed map, or at Close), with its
-  // id (creation order, from 0) and spans (empty: it took no frame).
-  using Closer = std::function<void(int id, System& system, const Spans& spans)>;
+  // id (creation order, from 0; a merge gives the smaller id to the map that goes on) and spans
+  // (empty: it took no frame, or its frames went with a merge); `merged_into`: the map that took
+  // it in (-1: none).
+  using Closer = std::function<void(int id, System& system, const Spans& spans, int merged_into)>;
   // `loaded`: maps taken up from a map file (ids 0, 1, ...), suspended; the first new map takes
   // the next id.
   MapSet(Factory make, Closer close, std::vector<std::unique_ptr<System>> loaded = {});
@@ -67,6 +75,7 @@ class MapSet {
     std::unique_ptr<System> system;
     Spans spans;
     bool open = false;  // Its last span is still growing (it is the current map).
+    int merged_into = -1;
   };
   struct Waiting {
     int index = -1;
@@ -80,12 +89,17 @@ class MapSet {
   Settled TakeCurrent(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
                       std::optional<std::chrono::steady_clock::time_point> wait_until);
   static void Note(Entry* e, int index);
+  // The current map's merge sources: the suspended maps this run made.
+  void SetMergeSources();
+  // The suspended map the current one recognised, taken in (System::MergeVerified) when ready.
+  void MergeIfReady();
 
   Factory make_;
   Closer close_;
   int next_id_ = 0;
   Entry current_;
   std::vector<Entry> suspended_;  // Oldest first.
+  std::vector<Entry> merged_;     // Taken in by another map; ended at Close.
   TrackingStatus current_status_ = TrackingStatus::kInitializing;  // Of its last frame.
   int loaded_ = 0;              // Maps loaded from a map file (ids 0 .. loaded_ - 1).
   bool in_loaded_map_ = false;  // The camera has been in one of them.

@@ -196,8 +196,17 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   int relocalised_in_loaded_at = -1;  // The first frame a loaded map took.
   MapSet map_set(
       make_system,
-      [&](int id, System& system, const MapSet::Spans& spans) {
+      [&](int id, System& system, const MapSet::Spans& spans, int merged_into) {
         if (ended.size() <= static_cast<size_t>(id)) ended.resize(id + 1);
+        if (merged_into >= 0) {
+          // Its keyframes, points and frames are the other map's now: only its counts stay.
+          system.Finish();
+          MapRun m;
+          m.merged_into = merged_into;
+          m.stats = system.stats();
+          ended[id] = std::move(m);
+          return;
+        }
         // A map saved for later sessions is adjusted whole first (System::TakeStoredMap): the
         // trajectories written are the map's as saved.
         const bool saved = !options.save_map.empty() && (!options.localize || system.localizing());
@@ -465,6 +474,18 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
                      {"scale", l.scale},
                      {"ms", l.ms}});
   summary.stats["loops_closed"] = loops;
+  nlohmann::json merges = nlohmann::json::array();
+  for (const SystemStats::MapMerge& m : s.maps_merged)
+    merges.push_back({{"frame", m.frame},
+                      {"keyframe", m.keyframe},
+                      {"candidate_keyframe", m.candidate},
+                      {"map", m.map},
+                      {"keyframes", m.keyframes},
+                      {"points", m.points},
+                      {"inliers", m.inliers},
+                      {"scale", m.scale},
+                      {"ms", m.ms}});
+  summary.stats["maps_merged"] = merges;
   summary.stats["processing_s"] = process_s;
   summary.stats["frames_per_second"] = fps;
   if (recording_s > 0.0) {
@@ -492,9 +513,12 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   }
   // Maps counted: those that took part (a new map that never started while the camera
   // relocalised in a loaded one does not).
-  const size_t maps_made = std::count_if(maps.begin(), maps.end(),
-                                         [](const MapRun& m) { return m.stats.keyframes > 0 || m.loaded_keyframes > 0; });
+  // Maps merged into another count with it.
+  const size_t maps_made = std::count_if(maps.begin(), maps.end(), [](const MapRun& m) {
+    return m.merged_into < 0 && (m.stats.keyframes > 0 || m.loaded_keyframes > 0);
+  });
   if (maps_made > 1) summary.line += ", " + std::to_string(maps_made) + " maps";
+  if (!s.maps_merged.empty()) summary.line += ", " + std::to_string(s.maps_merged.size()) + " merged";
   nlohmann::json map_list = nlohmann::json::array();
   for (size_t k = 0; k < maps.size(); ++k) {
     MapRun& m = maps[k];
@@ -505,6 +529,11 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
       summary.line += map_line;
     } else if (!map_line.empty()) {
       summary.line += "; map " + std::to_string(k) + map_line;
+    }
+    if (m.merged_into >= 0) {
+      map_list.push_back({{"dir", nullptr}, {"merged_into", m.merged_into}, {"frames_tracked", m.stats.frames_tracked},
+                          {"keyframes", m.stats.keyframes}, {"initialized_at_frame", m.stats.initialized_at_frame}});
+      continue;
     }
     nlohmann::json j = {{"dir", fs::relative(m.dir, out_dir).string()}, {"first_frame", m.first_frame},
                         {"last_frame", m.last_frame}, {"spans", m.spans}, {"frames_tracked", m.stats.frames_tracked},

@@ -18,7 +18,8 @@
 //   spliced back onto `loop` (the camera returns), the first map resumes; after only 10 frames of
 //   `loop`, the young map is given up sooner (AYoungMapIsGivenUpSooner).
 //   `forward` with 70 frames cut out (the camera reappears beyond all it mapped): a second map,
-//   never a relocalisation into the first (ALongCutStartsASecondMap).
+//   never a relocalisation into the first, which takes the first in when the camera walks back
+//   (ALongCutStartsASecondMapThatJoinsTheFirst).
 //   A System fed frame by frame through black frames goes through every transition of its
 //   tracking state (EveryTrackingStateIsReached).
 #include <fstream>
@@ -414,26 +415,63 @@ TEST(Relocalisation, ReturnResumesTheFirstMap) {
   EXPECT_FALSE(TumStamps(out.parent_path() / "out_cut" / "frames.tum").count(d.frames[back].t_ns));
 }
 
-// A sequence that leaves the mapped area for good: `forward` with frames 60-129 cut out, so the
-// camera reappears 5.6 m further down the corridor, beyond the map. Relocalisation keeps failing,
-// a second map starts, and both are evaluated. The corridor's textures are turned
-// (synth::Texture::turned): with the default ones, which repeat every 2 m along it, frames 61-63
-// relocalised 1.5 m behind the last trusted pose against keyframes that look alike, and the
-// map broke (keyframe ATE 3.4 m).
-TEST(Relocalisation, ALongCutStartsASecondMap) {
+// A sequence that leaves the mapped area and comes back: `forward` with frames 60-129 cut out, so
+// the camera reappears 5.6 m further down the corridor, beyond the map, then walks back to the
+// start. Relocalisation keeps failing and a second map starts; a run that ends before the return
+// keeps the two maps apart, each evaluated on its own. On the way back the second map recognises
+// the first one's keyframes and takes it in (map_set.h, System::MergeVerified): one map, under the
+// first map's folder, with both parts' keyframes and frames in time order, evaluated as one
+// trajectory. The corridor's textures are turned (synth::Texture::turned): with the default ones,
+// which repeat every 2 m along it, frames 61-63 relocalised 1.5 m behind the last trusted pose
+// against keyframes that look alike, and the map broke (keyframe ATE 3.4 m).
+TEST(Relocalisation, ALongCutStartsASecondMapThatJoinsTheFirst) {
   const fs::path dir = Render("forward", 0, "cut:60-129", "long_cut", 0, 0, /*turned_textures=*/true);
   const fs::path out = dir.parent_path() / "out";
-  const RunSummary s = RunSequential(dir, out);
-  std::printf("%s\n", s.line.c_str());
-  ASSERT_EQ(s.stats["maps"].size(), 2u);
-  EXPECT_EQ(s.stats["relocalisations"], 0);
-  EXPECT_EQ(s.stats["maps"][1]["dir"], "map_1");
-  EXPECT_EQ(s.stats["maps"][1]["spans"].size(), 1u);
-  for (const fs::path& m : {out, out / "map_1"}) {
+  // Ended 8 m down the corridor, before the return.
+  const RunSummary apart = RunSequential(dir, dir.parent_path() / "out_apart", 200);
+  std::printf("%s\n", apart.line.c_str());
+  ASSERT_EQ(apart.stats["maps"].size(), 2u);
+  EXPECT_EQ(apart.stats["relocalisations"], 0);
+  EXPECT_EQ(apart.stats["maps_merged"].size(), 0u);
+  EXPECT_EQ(apart.stats["maps"][1]["dir"], "map_1");
+  EXPECT_EQ(apart.stats["maps"][1]["spans"].size(), 1u);
+  for (const fs::path& m : {dir.parent_path() / "out_apart", dir.parent_path() / "out_apart" / "map_1"}) {
     EXPECT_TRUE(fs::exists(m / "keyframes.tum")) << m;
     EXPECT_TRUE(fs::exists(m / "eval.json")) << m;
   }
-  for (const auto& m : s.stats["maps"]) EXPECT_LT(m["keyframe_ate_m"].get<double>(), 0.005);
+  for (const auto& m : apart.stats["maps"]) EXPECT_LT(m["keyframe_ate_m"].get<double>(), 0.005);
+
+  const RunSummary s = RunSequential(dir, out);
+  std::printf("%s\n", s.line.c_str());
+  ASSERT_EQ(s.stats["maps"].size(), 2u);
+  ASSERT_EQ(s.stats["maps_merged"].size(), 1u);
+  const auto& merge = s.stats["maps_merged"][0];
+  const auto& whole = s.stats["maps"][0];
+  EXPECT_EQ(merge["map"], 1);
+  EXPECT_EQ(s.stats["maps"][1]["merged_into"], 0);
+  EXPECT_TRUE(s.stats["maps"][1]["dir"].is_null());
+  EXPECT_FALSE(fs::exists(out / "map_1"));
+  // Merged on the way back (the camera passes 8 m at frame 200), with the first map whole.
+  EXPECT_GT(merge["frame"].get<int>(), 200);
+  EXPECT_EQ(merge["keyframes"], apart.stats["maps"][0]["keyframes"]);
+  // Every frame is the one map's: its spans tile the run; its keyframes and frames are written in
+  // time order, the first map's among them.
+  ASSERT_EQ(whole["spans"].size(), 2u);
+  EXPECT_EQ(whole["spans"][0][0], 0);
+  EXPECT_EQ(whole["spans"][1][0].get<int>(), whole["spans"][0][1].get<int>() + 1);
+  EXPECT_EQ(whole["spans"][1][1], 329);
+  const Trajectory keyframes = ReadTrajectory(out / "keyframes.tum", TrajectoryFormat::kTum);
+  const Trajectory frames = ReadTrajectory(out / "frames.tum", TrajectoryFormat::kTum);
+  EXPECT_EQ(static_cast<int>(keyframes.size()), s.stats["keyframes"].get<int>());
+  EXPECT_EQ(static_cast<int>(frames.size()), s.stats["frames_tracked"].get<int>());
+  EXPECT_TRUE(std::is_sorted(keyframes.stamps_ns.begin(), keyframes.stamps_ns.end()));
+  EXPECT_TRUE(std::is_sorted(frames.stamps_ns.begin(), frames.stamps_ns.end()));
+  const Dataset d = OpenDataset(dir);
+  const std::set<int64_t> posed(frames.stamps_ns.begin(), frames.stamps_ns.end());
+  EXPECT_TRUE(posed.count(d.frames[40].t_ns));
+  EXPECT_TRUE(posed.count(d.frames[300].t_ns));
+  // One alignment for both parts.
+  EXPECT_LT(KeyframeAte(s), 0.005);
 }
 
 }  // namespace

@@ -465,9 +465,12 @@ void System::TraceCandidates(const ImagePyramid& pyramid, int reference, const S
 }
 
 Trajectory System::KeyframeTrajectory() const {
+  // In time order: a merged map's keyframes follow this map's in ids (MergeVerified).
+  std::vector<int> ids;
+  for (int k = loaded_keyframes_; k < map_.NumKeyframes(); ++k) ids.push_back(k);
+  std::stable_sort(ids.begin(), ids.end(), [&](int a, int b) { return map_.keyframe(a).t_ns < map_.keyframe(b).t_ns; });
   Trajectory t;
-  for (int k = loaded_keyframes_; k < map_.NumKeyframes(); ++k)
-    t.Add(map_.keyframe(k).t_ns, map_.keyframe(k).WorldFromCam());
+  for (int k : ids) t.Add(map_.keyframe(k).t_ns, map_.keyframe(k).WorldFromCam());
   return t;
 }
 

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <deque>
 #include <functional>
@@ -181,6 +182,30 @@ class System {
   void WithdrawTentative() {
     if (state_ == TrackingState::kConfirming) WithdrawRelocalisation();
   }
+  // Map merging (system_merge.cc; LoopClosureOptions). The other maps of the run that this map's
+  // new keyframes are compared with, once it is no longer young: place recognition and the loop's
+  // verification (system_loop.cc) against their keyframes, on this map's mapping side. `id`: the
+  // caller's name of each. The mapping side reads them while this map tracks: the caller leaves
+  // them untouched meanwhile and finishes this map's mapping side (Finish) before it uses one of
+  // them itself (run/map_set.h). Set while the mapping side is idle.
+  void SetMergeSources(const std::vector<std::pair<int, System*>>& sources);
+  // The id of the source a keyframe recognised and verified, waiting to be merged (-1: none); read
+  // without waiting for the mapping side.
+  int MergeReady() const { return merge_ready_.load(); }
+  // Takes the map MergeReady names into this one, on the caller's thread once the mapping side is
+  // finished (Finish): its keyframes and points follow this map's (ids shifted by this map's
+  // keyframe and point counts), moved into this map's frame and scale by the verified Sim(3)
+  //   S = K^-1 k_from_c C   (this world from the other's; K, C: the keyframe's and the
+  //                           candidate's cam_from_world),
+  // each keyframe's pose C_j S^-1 (its points' inverse depths over s, as a loop closure scales
+  // them), and its tracked frames join this map's trajectory (FrameTrajectory, KeyframeTrajectory:
+  // in time order). The other System is left with an empty map and no frames (its stats stay).
+  // The next keyframes select the merged keyframes as covisible and re-observe their points, and
+  // the loop bundle adjustment follows (AdjustLoop). False, nothing changed, while a
+  // relocalisation waits to be confirmed (the caller tries again with a later frame). `taken_id`:
+  // the caller's name of the map taken in from here on (stats: SystemStats::MapMerge::map).
+  bool MergeVerified(int taken_id);
+
   // What the tracking side does with the next frame (tracking_state.h).
   TrackingState state() const { return state_; }
 
@@ -480,7 +505,23 @@ class System {
     int inliers = 0;
     double shift_px = 0.0;  // Median move of the candidate's points in kf that the loop makes.
   };
-  bool VerifyLoop(int kf, int c, LoopMatch* match);
+  // `owner`: the System whose map has c (this one, or a merge source).
+  bool VerifyLoop(int kf, System& owner, int c, LoopMatch* match);
+  // Candidates grouped with their neighbours in time (scored: Query's), groups scoring under a
+  // share of the best dropped; the best candidate of each group found by the keyframes before too
+  // (`previous`, updated) for consistent_keyframes keyframes or more. `newly_found`: incremented
+  // per group reaching that count now.
+  struct PlaceGroup {
+    int lo = 0, hi = 0, count = 0;
+  };
+  std::vector<int> ConsistentGroups(const std::vector<std::pair<double, int>>& scored,
+                                    std::vector<PlaceGroup>* previous, int* newly_found) const;
+  // Keyframe kf (bag of words `bow`, score floor `floor`) against the merge sources' keyframes; a
+  // verified match waits in pending_merge_ for MergeVerified.
+  void DetectMerge(int kf, const BowVector& bow, double floor);
+  // The bundle adjustment that joins the last merged map to this one, once keyframe `newest`'s
+  // window re-observes its points (a merged keyframe among the covisible ones); true when it ran.
+  bool AdjustMerge(int newest);
   // The pose and brightness graphs with the loop edge; every keyframe and its points moved
   // (stats_.loops_closed).
   void CorrectLoop(int kf, const LoopMatch& match);
@@ -574,15 +615,36 @@ class System {
   const Vocabulary* vocabulary_ = nullptr;
   std::unique_ptr<Vocabulary> own_vocabulary_;  // LoopClosureOptions::vocabulary's, when given.
   PlaceIndex places_;
-  struct LoopGroup {
-    int lo = 0, hi = 0, count = 0;
-  };
-  std::vector<LoopGroup> loop_groups_;
+  std::vector<PlaceGroup> loop_groups_;
   int last_loop_keyframe_ = -1;  // The keyframe that closed the last loop (-1: none).
   // Per keyframe id: the product of the scales loop closures gave it (its hosted geometry is that
   // much smaller than when it was mapped); missing entries are 1.
   std::vector<double> keyframe_scale_;
   double KeyframeScale(int k) const { return k < static_cast<int>(keyframe_scale_.size()) ? keyframe_scale_[k] : 1.0; }
+  // Map merging: the sources with their candidate groups, the verified match waiting for
+  // MergeVerified (its source's id in merge_ready_ once set), and the blocks of keyframes merged
+  // (ids first .. first + count - 1) with the match that joined each (the keyframe, the
+  // candidate's id in this map and their Sim(3)): a pose graph joins a block to the rest there,
+  // not through the ids next to it.
+  struct MergeSource {
+    int id = -1;
+    System* system = nullptr;
+    std::vector<PlaceGroup> groups;
+  };
+  std::vector<MergeSource> merge_sources_;
+  struct PendingMerge {
+    System* source = nullptr;
+    int keyframe = -1;
+    LoopMatch match;
+  };
+  std::optional<PendingMerge> pending_merge_;
+  std::atomic<int> merge_ready_{-1};
+  struct MergedBlock {
+    int first = 0, count = 0, keyframe = -1, candidate = -1;
+    Sim3d k_from_c;
+  };
+  std::vector<MergedBlock> merged_blocks_;
+  bool merge_ba_pending_ = false;  // A merge waits for its adjustment (AdjustMerge).
   std::vector<std::vector<int>> loaded_covisibility_;
   double loaded_speed_ = 0.0;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.

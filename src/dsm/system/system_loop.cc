@@ -84,6 +84,38 @@ void System::AddToPlaceIndex(int k) {
   places_.Add(k, vocabulary_->Transform(KeyframeFeatures(k).descriptors));
 }
 
+std::vector<int> System::ConsistentGroups(const std::vector<std::pair<double, int>>& scored,
+                                          std::vector<PlaceGroup>* previous, int* newly_found) const {
+  // Groups of neighbours in time; each group's score is the sum of its members'.
+  struct Group {
+    int lo, hi, best;
+    double score;
+  };
+  std::vector<Group> groups;
+  for (const auto& [score, k] : scored) {
+    Group g{k - kGroupReach, k + kGroupReach, k, 0.0};
+    for (const auto& [s2, k2] : scored)
+      if (k2 >= g.lo && k2 <= g.hi) g.score += s2;
+    groups.push_back(g);
+  }
+  double best_group = 0.0;
+  for (const Group& g : groups) best_group = std::max(best_group, g.score);
+  std::erase_if(groups, [&](const Group& g) { return g.score < kGroupShare * best_group; });
+  // Consistency with the groups of the keyframe before.
+  std::vector<PlaceGroup> now;
+  std::vector<int> found;
+  for (const Group& g : groups) {
+    int count = 1;
+    for (const PlaceGroup& p : *previous)
+      if (g.lo <= p.hi && p.lo <= g.hi) count = std::max(count, p.count + 1);
+    now.push_back({g.lo, g.hi, count});
+    if (count == options_.loop_closure.consistent_keyframes) ++*newly_found;
+    if (count >= options_.loop_closure.consistent_keyframes) found.push_back(g.best);
+  }
+  *previous = std::move(now);
+  return found;
+}
+
 bool System::DetectAndCloseLoop(int kf) {
   if (!LoopClosureActive()) return false;
   const auto start = std::chrono::steady_clock::now();
@@ -116,39 +148,13 @@ bool System::DetectAndCloseLoop(int kf) {
       return near != joined.end() && *near <= candidate.second + kGroupReach;
     });
   }
-  // Groups of neighbours in time; each group's score is the sum of its members'.
-  struct Group {
-    int lo, hi, best;
-    double score;
-  };
-  std::vector<Group> groups;
-  for (const auto& [score, k] : scored) {
-    Group g{k - kGroupReach, k + kGroupReach, k, 0.0};
-    for (const auto& [s2, k2] : scored)
-      if (k2 >= g.lo && k2 <= g.hi) g.score += s2;
-    groups.push_back(g);
-  }
-  double best_group = 0.0;
-  for (const Group& g : groups) best_group = std::max(best_group, g.score);
-  std::erase_if(groups, [&](const Group& g) { return g.score < kGroupShare * best_group; });
-  // Consistency with the groups of the keyframe before.
-  std::vector<LoopGroup> now;
-  std::vector<int> to_verify;
-  for (const Group& g : groups) {
-    int count = 1;
-    for (const LoopGroup& previous : loop_groups_)
-      if (g.lo <= previous.hi && previous.lo <= g.hi) count = std::max(count, previous.count + 1);
-    now.push_back({g.lo, g.hi, count});
-    if (count == options_.loop_closure.consistent_keyframes) ++stats_.loops_detected;
-    if (count >= options_.loop_closure.consistent_keyframes) to_verify.push_back(g.best);
-  }
-  loop_groups_ = std::move(now);
+  std::vector<int> to_verify = ConsistentGroups(scored, &loop_groups_, &stats_.loops_detected);
   // One loop is closed at a time: the keyframes after a closure re-observe the old place, and the
   // loop adjustment follows.
   if (last_loop_keyframe_ >= 0 && kf - last_loop_keyframe_ < kLoopGap) to_verify.clear();
   for (int c : to_verify) {
     LoopMatch match;
-    if (!VerifyLoop(kf, c, &match)) continue;
+    if (!VerifyLoop(kf, *this, c, &match)) continue;
     // How far the loop would move the keyframe, as a share of the path since the candidate: drift
     // of a few percent is closed; a place tens of percent of the path away is another place that
     // looks the same (a twin room, the next floor of a building), whatever the views say.
@@ -164,14 +170,38 @@ bool System::DetectAndCloseLoop(int kf) {
     last_loop_keyframe_ = kf;
     return true;
   }
+  DetectMerge(kf, bow, floor);
   return false;
 }
 
-bool System::VerifyLoop(int kf, int c, LoopMatch* match) {
+void System::DetectMerge(int kf, const BowVector& bow, double floor) {
+  // A young map has not shown yet that it tracks where the others do not (MapSet tries them while
+  // it is young), and one merge is taken at a time.
+  if (Young() || merge_ready_.load() >= 0) return;
+  for (MergeSource& source : merge_sources_) {
+    const Map& other = source.system->map_;
+    // Residuals of one map sample all its images alike (Map::interpolation).
+    if (other.interpolation() != map_.interpolation()) continue;
+    const std::vector<std::pair<double, int>> scored =
+        source.system->places_.Query(bow, floor, [&](int k) { return other.keyframe(k).retired; });
+    int found = 0;
+    for (int c : ConsistentGroups(scored, &source.groups, &found)) {
+      LoopMatch match;
+      if (!VerifyLoop(kf, *source.system, c, &match)) continue;
+      // Two maps share no path, so no share of it bounds the correction: the verification alone
+      // decides (perceptual aliasing between maps is not caught).
+      pending_merge_ = PendingMerge{source.system, kf, match};
+      merge_ready_.store(source.id);
+      return;
+    }
+  }
+}
+
+bool System::VerifyLoop(int kf, System& owner, int c, LoopMatch* match) {
   const OrbFeatures& fk = KeyframeFeatures(kf);
-  const OrbFeatures& fc = KeyframeFeatures(c);
+  const OrbFeatures& fc = owner.KeyframeFeatures(c);
   const std::vector<cv::DMatch> matches = MatchFeatures(fk, fc, {});
-  const std::vector<ReferencePoint> points_c = PointsSeenIn(c);
+  const std::vector<ReferencePoint> points_c = owner.PointsSeenIn(c);
   const std::vector<float> rho_k = KeypointInverseDepths(fk, PointsSeenIn(kf), {});
   const std::vector<float> rho_c = KeypointInverseDepths(fc, points_c, {});
   std::vector<Eigen::Vector3d> in_k, in_c;
@@ -189,7 +219,7 @@ bool System::VerifyLoop(int kf, int c, LoopMatch* match) {
   if (!r.ok) return false;
   // Direct alignment of the keyframe against the candidate's points, at the candidate's scale.
   const Keyframe& k = map_.keyframe(kf);
-  const Keyframe& old = map_.keyframe(c);
+  const Keyframe& old = owner.map_.keyframe(c);
   const TrackerOptions tracker_options = internal::OverLevels(options_.tracker, options_.pyramid_levels);
   const std::shared_ptr<const ImagePyramid> pyramid = old.PyramidOrRebuilt();
   FrameTracker tracker(tracker_options);
@@ -253,14 +283,26 @@ void System::CorrectLoop(int kf, const LoopMatch& match) {
   const int span = 2 * (options_.window.temporal_keyframes + options_.window.covisible_keyframes);
   std::vector<PoseGraphEdge> edges;
   const auto measured = [&](int i, int j) { return start[node[i]] * start[node[j]].Inverse(); };
-  for (size_t n = 1; n < ids.size(); ++n) edges.push_back({node[ids[n]], node[ids[n - 1]], measured(ids[n], ids[n - 1]), 1.0});
+  // A block merged from another map (MergeVerified) is joined to the rest by its merge, not by
+  // the ids next to it.
+  const auto block = [&](int k) {
+    for (size_t b = 0; b < merged_blocks_.size(); ++b)
+      if (k >= merged_blocks_[b].first && k < merged_blocks_[b].first + merged_blocks_[b].count) return static_cast<int>(b);
+    return -1;
+  };
+  for (size_t n = 1; n < ids.size(); ++n)
+    if (block(ids[n]) == block(ids[n - 1]))
+      edges.push_back({node[ids[n]], node[ids[n - 1]], measured(ids[n], ids[n - 1]), 1.0});
+  for (const MergedBlock& b : merged_blocks_)
+    if (node.count(b.keyframe) && node.count(b.candidate))
+      edges.push_back({node[b.keyframe], node[b.candidate], measured(b.keyframe, b.candidate), 1.0});
   for (const auto& [pair, count] : shared) {
     const auto [i, j] = pair;
     // Keyframes far apart in time that share points were joined by re-observation, which may
     // have held them where the drift had them when they met: the loop edge is the judge there.
     if (count < kMinSharedPoints || !node.count(i) || !node.count(j) || j - i > span) continue;
     const int ni = node[i], nj = node[j];
-    if (std::abs(ni - nj) == 1) continue;  // Consecutive: there already.
+    if (std::abs(ni - nj) == 1 && block(i) == block(j)) continue;  // Consecutive: there already.
     edges.push_back({nj, ni, measured(j, i), 1.0});
   }
   // The loop: kf to c as verified, and every other keyframe of the temporal window to c through

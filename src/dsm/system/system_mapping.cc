@@ -257,7 +257,11 @@ void System::FinishKeyframe(int kf) {
   if (AdjustYoungMap()) adjusted = true;
   if (RejoinAfterRelocalisation(kf)) adjusted = true;
   if (AdjustSeam(kf)) adjusted = true;
-  if (AdjustLoop(kf)) adjusted = true;
+  if (AdjustMerge(kf)) {
+    adjusted = true;
+  } else if (AdjustLoop(kf)) {
+    adjusted = true;
+  }
   if (DetectAndCloseLoop(kf)) adjusted = true;
   if (adjusted) PublishTrackingReference();
   if (options_.keyframe_features && mapping_thread_) KeyframeFeatures(kf);

@@ -89,6 +89,17 @@ struct SystemStats {
     double ms = 0.0;  // Verification and pose graph.
   };
   std::vector<LoopClosure> loops_closed;
+  // Maps of the run merged into this one (System::MergeVerified).
+  struct MapMerge {
+    int frame = -1;                     // Input frame of the keyframe that recognised the other map ...
+    int keyframe = -1, candidate = -1;  // ... its id, and the other map's keyframe (its id here).
+    int map = -1;                       // The map taken in (run/map_set.h's id for it).
+    int keyframes = 0, points = 0;      // Taken from it (live points).
+    int inliers = 0;                    // Sim(3) RANSAC inliers.
+    double scale = 1.0;                 // Of the other map's geometry here.
+    double ms = 0.0;                    // The merge on the caller's thread (verification not included).
+  };
+  std::vector<MapMerge> maps_merged;
   int pyramids_rebuilt = 0;         // Keyframe pyramids rebuilt after they were released (Map).
   int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };

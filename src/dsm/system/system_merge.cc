@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: MIT
+// Map merging: a map started after a loss (run/map_set.h) recognises a place of an earlier map of
+// the run and takes that map in, so that the run ends with one map and one trajectory.
+//
+// Detection and verification are the loop's (system_loop.cc: DetectMerge), against the other
+// map's place index and keyframes. The merge itself (MergeVerified) moves the other map rigidly,
+// with its scale, onto the verified match: two maps joined at one place have no loop between
+// them, so a pose graph would move nothing. The seam is then the persistent map's: the next
+// keyframes select the merged keyframes as covisible, re-observe their points, and the loop
+// bundle adjustment refines both sides together.
+#include <algorithm>
+#include <chrono>
+#include <utility>
+
+#include "dsm/system/system.h"
+#include "dsm/system/system_internal.h"
+
+namespace dsm {
+
+void System::SetMergeSources(const std::vector<std::pair<int, System*>>& sources) {
+  std::vector<MergeSource> kept;
+  for (const auto& [id, system] : sources) {
+    MergeSource s;
+    s.id = id;
+    s.system = system;
+    for (const MergeSource& before : merge_sources_)
+      if (before.system == system) s.groups = before.groups;
+    kept.push_back(std::move(s));
+  }
+  merge_sources_ = std::move(kept);
+}
+
+bool System::MergeVerified(int taken_id) {
+  if (merge_ready_.load() < 0) return false;
+  Finish();
+  if (state_ == TrackingState::kConfirming) return false;
+  const auto start = std::chrono::steady_clock::now();
+  const PendingMerge pending = std::move(*pending_merge_);
+  pending_merge_.reset();
+  merge_ready_.store(-1);
+  System& other = *pending.source;
+  DSM_CHECK(next_keyframe_ == map_.NumKeyframes(), "a merge waits until every keyframe is mapped");
+  const int n = map_.NumKeyframes();
+  // S: this world from the other's (a point of the other map x goes to S x here).
+  const Sim3d S = Sim3d(map_.keyframe(pending.keyframe).cam_from_world).Inverse() * pending.match.k_from_c *
+                  Sim3d(other.map_.keyframe(pending.match.candidate).cam_from_world);
+  const Sim3d to_other = S.Inverse();
+  const double sigma = to_other.Scale();  // Inverse depths are multiplied by it.
+  for (int j = 0; j < other.map_.NumKeyframes(); ++j) {
+    const Keyframe& from = other.map_.keyframe(j);
+    auto k = std::make_unique<Keyframe>(from);
+    k->id = n + j;
+    const Sim3d g = Sim3d(from.cam_from_world) * to_other;
+    k->cam_from_world = SE3d(g.So3(), g.Translation() / g.Scale());
+    if (!from.retired) k->image = from.Level0();
+    k->pyramid = nullptr;
+    k->points.clear();
+    map_.RestoreKeyframe(std::move(k));
+    if (n + j >= static_cast<int>(keyframe_scale_.size())) keyframe_scale_.resize(n + j + 1, 1.0);
+    keyframe_scale_[n + j] = other.KeyframeScale(j) * sigma;
+    if (const BowVector* bow = other.places_.Bow(j)) places_.Add(n + j, *bow);
+  }
+  for (auto& [k, features] : other.keyframe_features_) keyframe_features_.emplace(n + k, std::move(features));
+  int points = 0;
+  for (int pid = 0; pid < other.map_.NumPoints(); ++pid) {
+    Point p = other.map_.point(pid);
+    if (p.removed) continue;
+    p.id = map_.NumPoints();
+    p.host += n;
+    p.idepth *= static_cast<float>(sigma);
+    for (Observation& o : p.observations) o.target += n;
+    map_.RestorePoint(std::move(p));
+    ++points;
+  }
+  // The other map's frames, relative to their keyframes as before (their offsets scale with the
+  // keyframe: keyframe_scale_), in time order with this map's.
+  const double baseline = other.map_.NumKeyframes() > 1 ? other.InitBaseline() : 0.0;
+  std::vector<FrameRecordInternal> frames;
+  for (FrameRecordInternal f : other.frames_) {
+    if (f.reference < 0) continue;
+    if (f.init_baseline > 0.0) {
+      f.frame_from_reference.SetTranslation(f.frame_from_reference.Translation() * (baseline / f.init_baseline));
+      f.init_baseline = 0.0;
+    }
+    f.reference += n;
+    frames.push_back(f);
+  }
+  std::vector<FrameRecordInternal> all;
+  std::merge(frames.begin(), frames.end(), frames_.begin(), frames_.end(), std::back_inserter(all),
+             [](const FrameRecordInternal& a, const FrameRecordInternal& b) { return a.t_ns < b.t_ns; });
+  frames_ = std::move(all);
+  next_keyframe_ = map_.NumKeyframes();
+  const int candidate = n + pending.match.candidate;
+  merged_blocks_.push_back({n, other.map_.NumKeyframes(), pending.keyframe, candidate, pending.match.k_from_c});
+  SystemStats::MapMerge merge;
+  merge.frame = map_.keyframe(pending.keyframe).frame_index;
+  merge.keyframe = pending.keyframe;
+  merge.candidate = candidate;
+  merge.map = taken_id;
+  merge.keyframes = other.map_.NumKeyframes();
+  merge.points = points;
+  merge.inliers = pending.match.inliers;
+  merge.scale = S.Scale();
+  // The other System keeps its stats; its map and frames are this one's now.
+  other.map_ = Map();
+  other.frames_.clear();
+  other.keyframe_features_.clear();
+  other.places_ = PlaceIndex();
+  std::erase_if(merge_sources_, [&](const MergeSource& s) { return s.system == &other; });
+  merge_ba_pending_ = true;
+  merge.ms = internal::MsSince(start);
+  stats_.maps_merged.push_back(merge);
+  return true;
+}
+
+bool System::AdjustMerge(int newest) {
+  if (!merge_ba_pending_) return false;
+  const MergedBlock& b = merged_blocks_.back();
+  const auto in_block = [&](int k) { return k >= b.first && k < b.first + b.count; };
+  if (std::none_of(covisible_.begin(), covisible_.end(), in_block)) return false;
+  merge_ba_pending_ = false;
+  // Neither side is the reference: the merged keyframes nearest the match and this map's newest
+  // are freed alike (loop_ba_max_keyframes in all, half each); the keyframes that observe their
+  // points enter held (pba_selection.h), and hold the rest of both maps where they are.
+  const int half = std::max(1, options_.loop_ba_max_keyframes / 2);
+  std::vector<int> keyframes;
+  for (int k = std::max(b.first, b.candidate - half / 2); k < std::min(b.first + b.count, b.candidate + half / 2 + 1); ++k)
+    if (!map_.keyframe(k).retired) keyframes.push_back(k);
+  for (int k = newest, n = 0; k >= 0 && n < half; --k)
+    if (!in_block(k) && !map_.keyframe(k).retired) keyframes.push_back(k), ++n;
+  PbaOptions pba = options_.pba;
+  if (options_.loop_ba_max_iterations > 0) pba.max_iterations = options_.loop_ba_max_iterations;
+  last_loop_ba_ = newest;
+  AdjustAfterNewest(std::move(keyframes), {}, pba, /*seam=*/false);
+  return true;
+}
+
+}  // namespace dsm
