@@ -3,10 +3,12 @@
 # build-tsan/ (override with DSM_TSAN_DIR), then runs the default and the realtime pace on a
 # rendered `loop` (200 frames), on a camera that leaves `loop` for `forward` and comes back (a
 # second map starts and the first resumes: run/map_set.h), on the first 120 shared EuRoC frames,
-# and on both laps of a 600-frame `loop`: whole (the second lap's keyframes are culled), and the
-# second lap localising in a map file of the first (--localize: temporary keyframes retired). `--workers 1` keeps the parallel loops on the system's own two threads (TBB's worker
-# threads are not instrumented and would only produce reports about TBB itself). Fails on the
-# first report.
+# on both laps of a 600-frame `loop`: whole (the second lap's keyframes are culled), and the
+# second lap localising in a map file of the first (--localize: temporary keyframes retired), and
+# on `forward` at 320x240 with frames 60-129 cut out (a second map starts, recognises the first on
+# the way back and takes it in: the mapping side reads the suspended map). `--workers 1` keeps the
+# parallel loops on the system's own two threads (TBB's worker threads are not instrumented and
+# would only produce reports about TBB itself). Fails on the first report.
 # Usage: ./scripts/tsan.sh [WORK_DIR]   (default /tmp/dsm_tsan)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -32,6 +34,9 @@ mkdir -p "$WORK"
     --out "$WORK/run_lap1" --save-map "$WORK/lap1.dsmmap"
 [ -f "$WORK/forward/times.txt" ] ||
   TSAN_OPTIONS=report_bugs=0 "$DSM" synth --scene forward --frames 90 --out "$WORK/forward" >/dev/null
+[ -f "$WORK/forward_cut/times.txt" ] ||
+  TSAN_OPTIONS=report_bugs=0 "$DSM" synth --scene forward --turned-textures --defects cut:60-129 --width 320 \
+    --height 240 --out "$WORK/forward_cut" >/dev/null
 # Frames 0-99 of `loop`, 0-89 of `forward`, 100-199 of `loop`, 50 ms apart, as one folder dataset.
 if [ ! -f "$WORK/return/times.txt" ]; then
   mkdir -p "$WORK/return/images"
@@ -54,7 +59,7 @@ fi
 printf 'system: {loop_ba_min_gap: 5}\n' >"$WORK/loop_ba.yaml"
 runs=("loop|$WORK/loop|" "loop_ba|$WORK/loop|--config=$WORK/loop_ba.yaml" "return|$WORK/return|")
 if [ -d "$DATA/euroc_mh01_shake" ]; then runs+=("euroc|$DATA/euroc_mh01_shake|--end 120"); fi
-runs+=("culling|$WORK/loop600|" "localize|$WORK/loop600|--start 300 --load-map $WORK/lap1.dsmmap --localize")
+runs+=("merge|$WORK/forward_cut|" "culling|$WORK/loop600|" "localize|$WORK/loop600|--start 300 --load-map $WORK/lap1.dsmmap --localize")
 for entry in "${runs[@]}"; do
   IFS='|' read -r name dataset extra <<<"$entry"
   for pace in free realtime; do

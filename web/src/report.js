@@ -163,7 +163,7 @@ const PLOTS = [
     series: (d) => [
       { x: d.per_keyframe?.frame, y: d.per_keyframe?.points_created, color: '#e9c46a', label: 'points created' },
       { x: d.per_keyframe?.frame, y: d.per_keyframe?.reobservations, color: '#e76f51', label: 're-observations' }],
-    bands: (d) => (d.loops_closed || []).map((l) => [l.frame, l.frame]) },
+    bands: (d) => [...(d.loops_closed || []), ...(d.maps_merged || [])].map((l) => [l.frame, l.frame]) },
 ];
 
 function summaryText(d) {
@@ -237,6 +237,12 @@ class Report {
       ? 'Loops closed (marked in the points plot): ' + loops.map((l) =>
         `frame ${l.frame} with keyframe ${l.candidate_keyframe} (moved ${(100 * l.translation_share).toFixed(2)}% of the ` +
         `path, ${l.rotation_deg.toFixed(2)}°, scale ${l.scale.toFixed(3)})`).join('; ') : '';
+    const merges = data.maps_merged || [];
+    if (merges.length) {
+      this.loops.textContent += (loops.length ? ' · ' : '') + 'Maps merged (marked in the points plot): ' +
+        merges.map((m) => `map ${m.map} at frame ${m.frame} (${m.keyframes} keyframes, ${m.points} points, ` +
+          `scale ${m.scale.toFixed(3)})`).join('; ');
+    }
   }
 
   showMap() {

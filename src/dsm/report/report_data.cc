@@ -175,6 +175,7 @@ json ReportData(const fs::path& run_dir) {
   data["per_keyframe"] = per_keyframe;
   data["lost_episodes"] = Get(stats, "lost_episodes", json::array());
   data["loops_closed"] = Get(stats, "loops_closed", json::array());
+  data["maps_merged"] = Get(stats, "maps_merged", json::array());
 
   // The maps, each with its rows of per_keyframe (listed map after map).
   const json maps = Get(stats, "maps", json::array({{{"dir", "."}}}));

@@ -86,6 +86,21 @@ TEST(Report, DataFromTheRunFolder) {
   EXPECT_EQ(d["loops_closed"][0]["candidate_keyframe"], 0);
 }
 
+// A map merged into another (run/map_set.h) has no folder: it is left out of the maps drawn, and
+// its keyframe rows (listed after the map's own) are not given to the map before it.
+TEST(Report, AMergedMapIsDrawnWithTheMapThatTookItIn) {
+  const fs::path dir = FakeRun("report_merged");
+  json stats = json::parse(std::ifstream(dir / "stats.json"));
+  stats["maps"] = {{{"dir", "."}, {"keyframes", 2}}, {{"dir", nullptr}, {"merged_into", 0}, {"keyframes", 1}}};
+  stats["maps_merged"] = {{{"frame", 3}, {"keyframe", 2}, {"candidate_keyframe", 1}, {"map", 1}}};
+  std::ofstream(dir / "stats.json") << stats.dump();
+  const json d = ReportData(dir);
+  ASSERT_EQ(d["maps"].size(), 1u);
+  EXPECT_EQ(d["maps"][0]["keyframes"].size(), 3u);  // From keyframes.tum: both maps' keyframes.
+  ASSERT_EQ(d["maps_merged"].size(), 1u);
+  EXPECT_EQ(d["maps_merged"][0]["map"], 1);
+}
+
 TEST(Report, PageInlinesDataAndScriptSafely) {
   json data = ReportData(FakeRun("report_page"));
   data["title"] = "a </script> <b>title</b>";

@@ -124,6 +124,12 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
   const auto append = [](auto* to, const auto& from) { to->insert(to->end(), from.begin(), from.end()); };
   for (size_t i = 1; i < maps.size(); ++i) {
     const SystemStats& s = maps[i].stats;
+    // A map taken in by the first one (map_set.h) started the run's map before it.
+    if (maps[i].merged_into == 0 && s.initialized_at_frame >= 0 &&
+        (all.initialized_at_frame < 0 || s.initialized_at_frame < all.initialized_at_frame)) {
+      all.initialized_at_frame = s.initialized_at_frame;
+      all.initialization = s.initialization;
+    }
     all.frames += s.frames;
     all.frames_tracked += s.frames_tracked;
     all.keyframes += s.keyframes;

@@ -101,8 +101,9 @@ std::vector<MapSet::Settled> MapSet::Process(int index, int64_t t_ns, const Imag
     return out;
   }
   if (TrySuspended()) {
-    // The current map's mapping side may be reading the suspended maps (merge detection).
-    if (current_status_ != TrackingStatus::kOk) current_.system->Finish();
+    // The current map's mapping side may be reading the suspended maps it could merge.
+    if (std::any_of(suspended_.begin(), suspended_.end(), [&](const Entry& e) { return e.id >= loaded_; }))
+      current_.system->Finish();
     for (size_t k = suspended_.size(); k-- > 0;) {
       FrameReport r = suspended_[k].system->Process(index, t_ns, image, exposure_ms, wait_until);
       if (r.relocalised) {
