@@ -390,6 +390,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   for (const SystemStats::KeyframeLog& k : s.per_keyframe) {
     per_keyframe.push_back({{"frame", k.frame}, {"points_created", k.points_created},
                             {"reobservations", k.reobservations}, {"covisible", k.covisible},
+                            {"points_seen", k.points_seen}, {"old_points_seen", k.old_points_seen},
                             {"pba", {{"keyframes", k.pba_keyframes}, {"fixed_keyframes", k.pba_fixed_keyframes},
                                      {"points", k.pba_points}, {"observations", k.pba_observations},
                                      {"iterations", k.pba_iterations}, {"ms", k.pba_ms}}}});

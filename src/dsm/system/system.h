@@ -183,7 +183,7 @@ class System {
     if (state_ == TrackingState::kConfirming) WithdrawRelocalisation();
   }
   // Map merging (system_merge.cc; LoopClosureOptions). The other maps of the run that this map's
-  // new keyframes are compared with, once it is no longer young: place recognition and the loop's
+  // new keyframes are compared with: place recognition and the loop's
   // verification (system_loop.cc) against their keyframes, on this map's mapping side. `id`: the
   // caller's name of each. The mapping side reads them while this map tracks: the caller leaves
   // them untouched meanwhile and finishes this map's mapping side (Finish) before it uses one of

@@ -175,9 +175,7 @@ bool System::DetectAndCloseLoop(int kf) {
 }
 
 void System::DetectMerge(int kf, const BowVector& bow, double floor) {
-  // A young map has not shown yet that it tracks where the others do not (MapSet tries them while
-  // it is young), and one merge is taken at a time.
-  if (Young() || merge_ready_.load() >= 0) return;
+  if (merge_ready_.load() >= 0) return;  // One merge at a time.
   for (MergeSource& source : merge_sources_) {
     const Map& other = source.system->map_;
     // Residuals of one map sample all its images alike (Map::interpolation).

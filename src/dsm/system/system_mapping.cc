@@ -106,6 +106,15 @@ void System::MapNewKeyframe(int kf) {
   log.observations_texture_lost = pba.observations_texture_lost;
   stats_.pba_ms.push_back(pba.time_ms);
   log.points_culled = CullPoints();
+  // What the keyframe sees after its adjustment: the window's points hosted or observed (inlier)
+  // in it, and of those the covisible keyframes' (the map before the temporal window).
+  for (int pid : ActivePointIds()) {
+    const Point& p = map_.point(pid);
+    const Observation* o = p.host == kf ? nullptr : p.FindObservation(kf);
+    if (p.host != kf && (o == nullptr || o->outlier)) continue;
+    ++log.points_seen;
+    if (std::find(covisible_.begin(), covisible_.end(), p.host) != covisible_.end()) ++log.old_points_seen;
+  }
   CullUnusedKeyframes(pba.cameras);
   if (localizing_) RetireTemporaries(kf);
   PublishTrackingReference();

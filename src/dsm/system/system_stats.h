@@ -55,6 +55,9 @@ struct SystemStats {
     int observations_removed = 0;  // Marked outliers after its bundle adjustment.
     int observations_texture_lost = 0;  // Of those: the texture vanished in the target (texture_loss.h).
     int points_culled = 0;         // Removed after its bundle adjustment.
+    // After it: the window's points it sees (hosts, or observes as an inlier), and of those the
+    // ones the covisible keyframes host (the map it returned to).
+    int points_seen = 0, old_points_seen = 0;
     // Tracking of the frame that became this keyframe (0 for the first two).
     double tracking_rmse = 0.0, tracking_inlier_ratio = 0.0;
   };
