@@ -67,6 +67,7 @@ bool System::MergeVerified(int taken_id) {
     if (p.removed) continue;
     p.id = map_.NumPoints();
     p.host += n;
+    p.created_at_keyframe += n;  // Counts keyframes by id, as the hosts do.
     p.idepth *= static_cast<float>(sigma);
     for (Observation& o : p.observations) o.target += n;
     map_.RestorePoint(std::move(p));
