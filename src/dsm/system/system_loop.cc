@@ -152,6 +152,12 @@ bool System::DetectAndCloseLoop(int kf) {
   // One loop is closed at a time: the keyframes after a closure re-observe the old place, and the
   // loop adjustment follows.
   if (last_loop_keyframe_ >= 0 && kf - last_loop_keyframe_ < kLoopGap) to_verify.clear();
+  // A place is closed once: the keyframes after a closure join it by re-observation, and a second
+  // verification against its neighbours (a few matches at the closure's edge) can only disturb it.
+  std::erase_if(to_verify, [&](int c) {
+    return std::any_of(stats_.loops_closed.begin(), stats_.loops_closed.end(),
+                       [&](const SystemStats::LoopClosure& l) { return std::abs(c - l.candidate) <= kGroupReach; });
+  });
   for (int c : to_verify) {
     LoopMatch match;
     if (!VerifyLoop(kf, *this, c, &match)) continue;
