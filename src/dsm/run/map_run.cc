@@ -165,4 +165,33 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
   return all;
 }
 
+nlohmann::json LoopsClosedJson(const SystemStats& s) {
+  nlohmann::json loops = nlohmann::json::array();
+  for (const SystemStats::LoopClosure& l : s.loops_closed)
+    loops.push_back({{"frame", l.frame},
+                     {"keyframe", l.keyframe},
+                     {"candidate_keyframe", l.candidate},
+                     {"inliers", l.inliers},
+                     {"translation_share", l.translation_share},
+                     {"rotation_deg", l.rotation_deg},
+                     {"scale", l.scale},
+                     {"ms", l.ms}});
+  return loops;
+}
+
+nlohmann::json MapsMergedJson(const SystemStats& s) {
+  nlohmann::json merges = nlohmann::json::array();
+  for (const SystemStats::MapMerge& m : s.maps_merged)
+    merges.push_back({{"frame", m.frame},
+                      {"keyframe", m.keyframe},
+                      {"candidate_keyframe", m.candidate},
+                      {"map", m.map},
+                      {"keyframes", m.keyframes},
+                      {"points", m.points},
+                      {"inliers", m.inliers},
+                      {"scale", m.scale},
+                      {"ms", m.ms}});
+  return merges;
+}
+
 }  // namespace dsm

@@ -464,29 +464,8 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   summary.stats["pyramids_loaded_max"] = s.pyramids_loaded_max;
   // Loop closure: places recognised, and the loops closed with their corrections.
   summary.stats["loops_detected"] = s.loops_detected;
-  nlohmann::json loops = nlohmann::json::array();
-  for (const SystemStats::LoopClosure& l : s.loops_closed)
-    loops.push_back({{"frame", l.frame},
-                     {"keyframe", l.keyframe},
-                     {"candidate_keyframe", l.candidate},
-                     {"inliers", l.inliers},
-                     {"translation_share", l.translation_share},
-                     {"rotation_deg", l.rotation_deg},
-                     {"scale", l.scale},
-                     {"ms", l.ms}});
-  summary.stats["loops_closed"] = loops;
-  nlohmann::json merges = nlohmann::json::array();
-  for (const SystemStats::MapMerge& m : s.maps_merged)
-    merges.push_back({{"frame", m.frame},
-                      {"keyframe", m.keyframe},
-                      {"candidate_keyframe", m.candidate},
-                      {"map", m.map},
-                      {"keyframes", m.keyframes},
-                      {"points", m.points},
-                      {"inliers", m.inliers},
-                      {"scale", m.scale},
-                      {"ms", m.ms}});
-  summary.stats["maps_merged"] = merges;
+  summary.stats["loops_closed"] = LoopsClosedJson(s);
+  summary.stats["maps_merged"] = MapsMergedJson(s);
   summary.stats["processing_s"] = process_s;
   summary.stats["frames_per_second"] = fps;
   if (recording_s > 0.0) {

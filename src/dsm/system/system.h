@@ -201,7 +201,7 @@ class System {
   // them), and its tracked frames join this map's trajectory (FrameTrajectory, KeyframeTrajectory:
   // in time order). The other System is left with an empty map and no frames (its stats stay).
   // The next keyframes select the merged keyframes as covisible and re-observe their points, and
-  // the loop bundle adjustment follows (AdjustLoop). False, nothing changed, while a
+  // the merge's bundle adjustment follows (AdjustMerge). False, nothing changed, while a
   // relocalisation waits to be confirmed (the caller tries again with a later frame). `taken_id`:
   // the caller's name of the map taken in from here on (stats: SystemStats::MapMerge::map).
   bool MergeVerified(int taken_id);
@@ -464,6 +464,8 @@ class System {
   bool RejoinAfterRelocalisation(int newest);
   // A loop or seam adjustment of `keyframes` (`held` among them stay fixed), logged with the newest
   // keyframe's entry and in stats_.loop_ba_ms.
+  // The PBA options of a loop or merge adjustment (SystemOptions::loop_ba_max_iterations).
+  PbaOptions LoopBaOptions() const;
   void AdjustAfterNewest(std::vector<int> keyframes, std::vector<int> held, const PbaOptions& pba, bool seam);
   // The young map's bundle adjustment (SystemOptions::young_map_ba_first) after the newest
   // keyframe is published, when due; true when it ran.
@@ -642,6 +644,7 @@ class System {
   struct MergedBlock {
     int first = 0, count = 0, keyframe = -1, candidate = -1;
     Sim3d k_from_c;
+    bool Contains(int k) const { return k >= first && k < first + count; }
   };
   std::vector<MergedBlock> merged_blocks_;
   bool merge_ba_pending_ = false;  // A merge waits for its adjustment (AdjustMerge).

@@ -291,7 +291,7 @@ void System::CorrectLoop(int kf, const LoopMatch& match) {
   // the ids next to it.
   const auto block = [&](int k) {
     for (size_t b = 0; b < merged_blocks_.size(); ++b)
-      if (k >= merged_blocks_[b].first && k < merged_blocks_[b].first + merged_blocks_[b].count) return static_cast<int>(b);
+      if (merged_blocks_[b].Contains(k)) return static_cast<int>(b);
     return -1;
   };
   for (size_t n = 1; n < ids.size(); ++n)

@@ -202,11 +202,15 @@ bool System::AdjustLoop(int newest) {
   std::vector<int> keyframes = covisible_, held = covisible_;
   for (int k = first; k <= newest; ++k)
     if (std::find(covisible_.begin(), covisible_.end(), k) == covisible_.end()) keyframes.push_back(k);
+  last_loop_ba_ = newest;
+  AdjustAfterNewest(std::move(keyframes), std::move(held), LoopBaOptions(), /*seam=*/false);
+  return true;
+}
+
+PbaOptions System::LoopBaOptions() const {
   PbaOptions pba = options_.pba;
   if (options_.loop_ba_max_iterations > 0) pba.max_iterations = options_.loop_ba_max_iterations;
-  last_loop_ba_ = newest;
-  AdjustAfterNewest(std::move(keyframes), std::move(held), pba, /*seam=*/false);
-  return true;
+  return pba;
 }
 
 void System::AdjustAfterNewest(std::vector<int> keyframes, std::vector<int> held, const PbaOptions& pba, bool seam) {

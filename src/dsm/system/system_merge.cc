@@ -117,8 +117,7 @@ bool System::MergeVerified(int taken_id) {
 bool System::AdjustMerge(int newest) {
   if (!merge_ba_pending_) return false;
   const MergedBlock& b = merged_blocks_.back();
-  const auto in_block = [&](int k) { return k >= b.first && k < b.first + b.count; };
-  if (std::none_of(covisible_.begin(), covisible_.end(), in_block)) return false;
+  if (std::none_of(covisible_.begin(), covisible_.end(), [&](int k) { return b.Contains(k); })) return false;
   merge_ba_pending_ = false;
   // Neither side is the reference: the merged keyframes nearest the match and this map's newest
   // are freed alike (loop_ba_max_keyframes in all, half each); the keyframes that observe their
@@ -128,11 +127,9 @@ bool System::AdjustMerge(int newest) {
   for (int k = std::max(b.first, b.candidate - half / 2); k < std::min(b.first + b.count, b.candidate + half / 2 + 1); ++k)
     if (!map_.keyframe(k).retired) keyframes.push_back(k);
   for (int k = newest, n = 0; k >= 0 && n < half; --k)
-    if (!in_block(k) && !map_.keyframe(k).retired) keyframes.push_back(k), ++n;
-  PbaOptions pba = options_.pba;
-  if (options_.loop_ba_max_iterations > 0) pba.max_iterations = options_.loop_ba_max_iterations;
+    if (!b.Contains(k) && !map_.keyframe(k).retired) keyframes.push_back(k), ++n;
   last_loop_ba_ = newest;
-  AdjustAfterNewest(std::move(keyframes), {}, pba, /*seam=*/false);
+  AdjustAfterNewest(std::move(keyframes), {}, LoopBaOptions(), /*seam=*/false);
   return true;
 }
 
