@@ -51,10 +51,10 @@ System::System(const PinholeCamera& camera, const SystemOptions& options)
   track_.quality = TrackingQuality(options.quality);
   if (options_.loop_closure.enabled && options_.mode == MapMode::kFull) {
     if (options_.loop_closure.vocabulary.empty()) {
-      vocabulary_ = &Vocabulary::BuiltIn();
+      loop_.vocabulary = &Vocabulary::BuiltIn();
     } else {
-      own_vocabulary_ = std::make_unique<Vocabulary>(Vocabulary::Read(options_.loop_closure.vocabulary));
-      vocabulary_ = own_vocabulary_.get();
+      loop_.own_vocabulary = std::make_unique<Vocabulary>(Vocabulary::Read(options_.loop_closure.vocabulary));
+      loop_.vocabulary = loop_.own_vocabulary.get();
     }
   }
   if (options_.mode == MapMode::kSlidingWindow) {

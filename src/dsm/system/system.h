@@ -42,8 +42,7 @@
 #include "dsm/lie/sim3.h"
 #include "dsm/map/stored_map.h"
 #include "dsm/mapping/map_points.h"
-#include "dsm/place/place_index.h"
-#include "dsm/place/vocabulary.h"
+#include "dsm/system/loop_state.h"
 #include "dsm/system/options.h"
 #include "dsm/system/system_stats.h"
 #include "dsm/system/tracking_state.h"
@@ -191,7 +190,7 @@ class System {
   void SetMergeSources(const std::vector<std::pair<int, System*>>& sources);
   // The id of the source a keyframe recognised and verified, waiting to be merged (-1: none); read
   // without waiting for the mapping side.
-  int MergeReady() const { return merge_ready_.load(); }
+  int MergeReady() const { return loop_.merge_ready.load(); }
   // Takes the map MergeReady names into this one, on the caller's thread once the mapping side is
   // finished (Finish): its keyframes and points follow this map's (ids shifted by this map's
   // keyframe and point counts), moved into this map's frame and scale by the verified Sim(3)
@@ -497,29 +496,10 @@ class System {
   void AddToPlaceIndex(int k);
   // Adds keyframe kf to the place index, and closes a loop when it finds one; true when it did.
   bool DetectAndCloseLoop(int kf);
-  // Keyframe kf seeing old keyframe `candidate` again: the Sim(3) from the candidate's camera to
-  // kf's (at each one's scale), the brightness of kf relative to the candidate's (a and b; without
-  // the exposure times) and the RANSAC inliers.
-  struct LoopMatch {
-    int candidate = -1;
-    Sim3d k_from_c;
-    double alpha = 0.0, beta = 0.0;
-    int inliers = 0;
-    double shift_px = 0.0;  // Median move of the candidate's points in kf that the loop makes.
-  };
   // `owner`: the System whose map has c (this one, or a merge source).
   bool VerifyLoop(int kf, System& owner, int c, LoopMatch* match);
-  // Candidates grouped with their neighbours in time (scored: Query's), groups scoring under a
-  // share of the best dropped; the best candidate of each group found by the keyframes before too
-  // (`previous`, updated) for consistent_keyframes keyframes or more. `newly_found`: incremented
-  // per group reaching that count now.
-  struct PlaceGroup {
-    int lo = 0, hi = 0, count = 0;
-  };
-  std::vector<int> ConsistentGroups(const std::vector<std::pair<double, int>>& scored,
-                                    std::vector<PlaceGroup>* previous, int* newly_found) const;
   // Keyframe kf (bag of words `bow`, score floor `floor`) against the merge sources' keyframes; a
-  // verified match waits in pending_merge_ for MergeVerified.
+  // verified match waits in loop_.pending_merge for MergeVerified.
   void DetectMerge(int kf, const BowVector& bow, double floor);
   // The bundle adjustment that joins the last merged map to this one, once keyframe `newest`'s
   // window re-observes its points (a merged keyframe among the covisible ones); true when it ran.
@@ -611,43 +591,11 @@ class System {
   int loaded_point_ids_ = 0;
   int retired_keyframes_ = 0;  // Localisation's temporary keyframes retired (culled ones: stats_).
   std::vector<int> cull_pending_;  // Left the temporal window, not judged yet (CullUnusedKeyframes).
-  // Loop closure, mapping side: the vocabulary (null: loop closure off), the keyframes' bags of
-  // words, and the candidate groups of the last keyframe with how many keyframes in a row found
-  // them (system_loop.cc).
-  const Vocabulary* vocabulary_ = nullptr;
-  std::unique_ptr<Vocabulary> own_vocabulary_;  // LoopClosureOptions::vocabulary's, when given.
-  PlaceIndex places_;
-  std::vector<PlaceGroup> loop_groups_;
-  int last_loop_keyframe_ = -1;  // The keyframe that closed the last loop (-1: none).
+  LoopState loop_;  // Loop closure and map merging, mapping side.
   // Per keyframe id: the product of the scales loop closures gave it (its hosted geometry is that
   // much smaller than when it was mapped); missing entries are 1.
   std::vector<double> keyframe_scale_;
   double KeyframeScale(int k) const { return k < static_cast<int>(keyframe_scale_.size()) ? keyframe_scale_[k] : 1.0; }
-  // Map merging: the sources with their candidate groups, the verified match waiting for
-  // MergeVerified (its source's id in merge_ready_ once set), and the blocks of keyframes merged
-  // (ids first .. first + count - 1) with the match that joined each (the keyframe, the
-  // candidate's id in this map and their Sim(3)): a pose graph joins a block to the rest there,
-  // not through the ids next to it.
-  struct MergeSource {
-    int id = -1;
-    System* system = nullptr;
-    std::vector<PlaceGroup> groups;
-  };
-  std::vector<MergeSource> merge_sources_;
-  struct PendingMerge {
-    System* source = nullptr;
-    int keyframe = -1;
-    LoopMatch match;
-  };
-  std::optional<PendingMerge> pending_merge_;
-  std::atomic<int> merge_ready_{-1};
-  struct MergedBlock {
-    int first = 0, count = 0, keyframe = -1, candidate = -1;
-    Sim3d k_from_c;
-    bool Contains(int k) const { return k >= first && k < first + count; }
-  };
-  std::vector<MergedBlock> merged_blocks_;
-  bool merge_ba_pending_ = false;  // A merge waits for its adjustment (AdjustMerge).
   std::vector<std::vector<int>> loaded_covisibility_;
   double loaded_speed_ = 0.0;
   SystemStats stats_;  // Counts of frames and tracking times by the tracking side, the rest by the mapping side.

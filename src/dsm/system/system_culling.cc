@@ -78,7 +78,7 @@ bool System::CullKeyframe(int k) {
   }
   map_.Retire(k);
   keyframe_features_.erase(k);
-  places_.Remove(k);
+  loop_.places.Remove(k);
   ++stats_.keyframes_culled;
   return true;
 }

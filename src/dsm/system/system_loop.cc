@@ -6,11 +6,10 @@
 //
 // 1. Detection. Each new keyframe's bag of words (place/vocabulary.h, its ORB features) is scored
 //    against the map's keyframes that the window has not already joined: not in the window, and
-//    none of whose points the window observes. The floor is the lowest score between the
-//    keyframe and the other keyframes of its temporal window (the same place, seen a little
-//    apart). Candidates are grouped with their neighbours in time (a place is seen by several
-//    keyframes), groups scoring less than 3/4 of the best dropped; a group found again by the
-//    next keyframes (overlapping ids) for consistent_keyframes keyframes in a row is a detection.
+//    none of whose points the window observes. The floor is 0.8 of the score against the keyframe
+//    before (the same place, a step apart). Candidates are grouped with their neighbours in time,
+//    and a group found again by consistent_keyframes keyframes in a row is a detection
+//    (place/place_groups.h).
 // 2. Verification. ORB matches between the keyframe and the group's best candidate take inverse
 //    depths from the map points near each keypoint in both views; RANSAC on a Sim(3) between the
 //    two cameras (geometry/sim3_ransac.h) needs min_inliers, then the keyframe's image is aligned
@@ -35,6 +34,7 @@
 
 #include "dsm/geometry/sim3_ransac.h"
 #include "dsm/optimization/pose_graph.h"
+#include "dsm/place/place_groups.h"
 #include "dsm/system/system.h"
 #include "dsm/system/system_internal.h"
 #include "dsm/tracking/feature_pose.h"
@@ -46,8 +46,6 @@ namespace dsm {
 namespace {
 
 constexpr double kFloorShare = 0.8;      // Of the score against the keyframe before.
-constexpr int kGroupReach = 3;           // A candidate's group: keyframes this many ids either side.
-constexpr double kGroupShare = 0.75;     // Groups kept: at least this share of the best group's score.
 constexpr double kMaxCorrectionShare = 0.1;  // Of the path since the candidate.
 constexpr double kReobservePx = 4.0;     // A loop this near is left to re-observation.
 constexpr int kLoopGap = 10;            // Keyframes after a closure before the next one.
@@ -77,56 +75,24 @@ const OrbFeatures& System::KeyframeFeatures(int k) {
 }
 
 bool System::LoopClosureActive() const {
-  return options_.loop_closure.enabled && options_.mode == MapMode::kFull && !localizing_ && vocabulary_ != nullptr;
+  return options_.loop_closure.enabled && options_.mode == MapMode::kFull && !localizing_ && loop_.vocabulary != nullptr;
 }
 
 void System::AddToPlaceIndex(int k) {
-  places_.Add(k, vocabulary_->Transform(KeyframeFeatures(k).descriptors));
-}
-
-std::vector<int> System::ConsistentGroups(const std::vector<std::pair<double, int>>& scored,
-                                          std::vector<PlaceGroup>* previous, int* newly_found) const {
-  // Groups of neighbours in time; each group's score is the sum of its members'.
-  struct Group {
-    int lo, hi, best;
-    double score;
-  };
-  std::vector<Group> groups;
-  for (const auto& [score, k] : scored) {
-    Group g{k - kGroupReach, k + kGroupReach, k, 0.0};
-    for (const auto& [s2, k2] : scored)
-      if (k2 >= g.lo && k2 <= g.hi) g.score += s2;
-    groups.push_back(g);
-  }
-  double best_group = 0.0;
-  for (const Group& g : groups) best_group = std::max(best_group, g.score);
-  std::erase_if(groups, [&](const Group& g) { return g.score < kGroupShare * best_group; });
-  // Consistency with the groups of the keyframe before.
-  std::vector<PlaceGroup> now;
-  std::vector<int> found;
-  for (const Group& g : groups) {
-    int count = 1;
-    for (const PlaceGroup& p : *previous)
-      if (g.lo <= p.hi && p.lo <= g.hi) count = std::max(count, p.count + 1);
-    now.push_back({g.lo, g.hi, count});
-    if (count == options_.loop_closure.consistent_keyframes) ++*newly_found;
-    if (count >= options_.loop_closure.consistent_keyframes) found.push_back(g.best);
-  }
-  *previous = std::move(now);
-  return found;
+  loop_.places.Add(k, loop_.vocabulary->Transform(KeyframeFeatures(k).descriptors));
 }
 
 bool System::DetectAndCloseLoop(int kf) {
   if (!LoopClosureActive()) return false;
   const auto start = std::chrono::steady_clock::now();
   AddToPlaceIndex(kf);
-  const BowVector& bow = *places_.Bow(kf);
+  const BowVector& bow = *loop_.places.Bow(kf);
   // The floor: a share of the score against the keyframe before (the same place, a step apart).
   const int before = window_.size() >= 2 ? window_[window_.size() - 2] : -1;
-  if (before < 0 || places_.Bow(before) == nullptr) return false;
-  const double floor = kFloorShare * Vocabulary::Score(bow, *places_.Bow(before));
+  if (before < 0 || loop_.places.Bow(before) == nullptr) return false;
+  const double floor = kFloorShare * Vocabulary::Score(bow, *loop_.places.Bow(before));
   const int recent = kf - 2 * (options_.window.temporal_keyframes + options_.window.covisible_keyframes);
-  std::vector<std::pair<double, int>> scored = places_.Query(
+  std::vector<std::pair<double, int>> scored = loop_.places.Query(
       bow, floor, [&](int k) { return k >= recent || map_.keyframe(k).retired; });
   if (!scored.empty()) {
     // Keyframes the window has joined already: its own, and the hosts of the points it observes
@@ -144,19 +110,20 @@ bool System::DetectAndCloseLoop(int kf) {
         }
     }
     std::erase_if(scored, [&](const std::pair<double, int>& candidate) {
-      const auto near = joined.lower_bound(candidate.second - kGroupReach);
-      return near != joined.end() && *near <= candidate.second + kGroupReach;
+      const auto near = joined.lower_bound(candidate.second - PlaceGroups::kReach);
+      return near != joined.end() && InSamePlace(*near, candidate.second);
     });
   }
-  std::vector<int> to_verify = ConsistentGroups(scored, &loop_groups_, &stats_.loops_detected);
+  std::vector<int> to_verify = ConsistentGroups(scored, options_.loop_closure.consistent_keyframes, &loop_.groups,
+                                                     &stats_.loops_detected);
   // One loop is closed at a time: the keyframes after a closure re-observe the old place, and the
   // loop adjustment follows.
-  if (last_loop_keyframe_ >= 0 && kf - last_loop_keyframe_ < kLoopGap) to_verify.clear();
+  if (loop_.last_loop_keyframe >= 0 && kf - loop_.last_loop_keyframe < kLoopGap) to_verify.clear();
   // A place is closed once: the keyframes after a closure join it by re-observation, and a second
   // verification against its neighbours (a few matches at the closure's edge) can only disturb it.
   std::erase_if(to_verify, [&](int c) {
     return std::any_of(stats_.loops_closed.begin(), stats_.loops_closed.end(),
-                       [&](const SystemStats::LoopClosure& l) { return std::abs(c - l.candidate) <= kGroupReach; });
+                       [&](const SystemStats::LoopClosure& l) { return InSamePlace(c, l.candidate); });
   });
   for (int c : to_verify) {
     LoopMatch match;
@@ -172,8 +139,8 @@ bool System::DetectAndCloseLoop(int kf) {
     SystemStats::LoopClosure& closed = stats_.loops_closed.back();
     closed.inliers = match.inliers;
     closed.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    loop_groups_.clear();
-    last_loop_keyframe_ = kf;
+    loop_.groups.clear();
+    loop_.last_loop_keyframe = kf;
     return true;
   }
   DetectMerge(kf, bow, floor);
@@ -181,21 +148,21 @@ bool System::DetectAndCloseLoop(int kf) {
 }
 
 void System::DetectMerge(int kf, const BowVector& bow, double floor) {
-  if (merge_ready_.load() >= 0) return;  // One merge at a time.
-  for (MergeSource& source : merge_sources_) {
+  if (loop_.merge_ready.load() >= 0) return;  // One merge at a time.
+  for (LoopState::MergeSource& source : loop_.merge_sources) {
     const Map& other = source.system->map_;
     // Residuals of one map sample all its images alike (Map::interpolation).
     if (other.interpolation() != map_.interpolation()) continue;
     const std::vector<std::pair<double, int>> scored =
-        source.system->places_.Query(bow, floor, [&](int k) { return other.keyframe(k).retired; });
+        source.system->loop_.places.Query(bow, floor, [&](int k) { return other.keyframe(k).retired; });
     int found = 0;
-    for (int c : ConsistentGroups(scored, &source.groups, &found)) {
+    for (int c : ConsistentGroups(scored, options_.loop_closure.consistent_keyframes, &source.groups, &found)) {
       LoopMatch match;
       if (!VerifyLoop(kf, *source.system, c, &match)) continue;
       // Two maps share no path, so no share of it bounds the correction: the verification alone
       // decides (perceptual aliasing between maps is not caught).
-      pending_merge_ = PendingMerge{source.system, kf, match};
-      merge_ready_.store(source.id);
+      loop_.pending_merge = LoopState::PendingMerge{source.system, kf, match};
+      loop_.merge_ready.store(source.id);
       return;
     }
   }
@@ -290,14 +257,14 @@ void System::CorrectLoop(int kf, const LoopMatch& match) {
   // A block merged from another map (MergeVerified) is joined to the rest by its merge, not by
   // the ids next to it.
   const auto block = [&](int k) {
-    for (size_t b = 0; b < merged_blocks_.size(); ++b)
-      if (merged_blocks_[b].Contains(k)) return static_cast<int>(b);
+    for (size_t b = 0; b < loop_.merged_blocks.size(); ++b)
+      if (loop_.merged_blocks[b].Contains(k)) return static_cast<int>(b);
     return -1;
   };
   for (size_t n = 1; n < ids.size(); ++n)
     if (block(ids[n]) == block(ids[n - 1]))
       edges.push_back({node[ids[n]], node[ids[n - 1]], measured(ids[n], ids[n - 1]), 1.0});
-  for (const MergedBlock& b : merged_blocks_)
+  for (const MergedBlock& b : loop_.merged_blocks)
     if (node.count(b.keyframe) && node.count(b.candidate))
       edges.push_back({node[b.keyframe], node[b.candidate], measured(b.keyframe, b.candidate), 1.0});
   for (const auto& [pair, count] : shared) {

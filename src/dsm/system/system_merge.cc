@@ -18,26 +18,26 @@
 namespace dsm {
 
 void System::SetMergeSources(const std::vector<std::pair<int, System*>>& sources) {
-  std::vector<MergeSource> kept;
+  std::vector<LoopState::MergeSource> kept;
   for (const auto& [id, system] : sources) {
-    MergeSource s;
+    LoopState::MergeSource s;
     s.id = id;
     s.system = system;
-    for (const MergeSource& before : merge_sources_)
+    for (const LoopState::MergeSource& before : loop_.merge_sources)
       if (before.system == system) s.groups = before.groups;
     kept.push_back(std::move(s));
   }
-  merge_sources_ = std::move(kept);
+  loop_.merge_sources = std::move(kept);
 }
 
 bool System::MergeVerified(int taken_id) {
-  if (merge_ready_.load() < 0) return false;
+  if (loop_.merge_ready.load() < 0) return false;
   Finish();
   if (state_ == TrackingState::kConfirming) return false;
   const auto start = std::chrono::steady_clock::now();
-  const PendingMerge pending = std::move(*pending_merge_);
-  pending_merge_.reset();
-  merge_ready_.store(-1);
+  const LoopState::PendingMerge pending = std::move(*loop_.pending_merge);
+  loop_.pending_merge.reset();
+  loop_.merge_ready.store(-1);
   System& other = *pending.source;
   DSM_CHECK(next_keyframe_ == map_.NumKeyframes(), "a merge waits until every keyframe is mapped");
   const int n = map_.NumKeyframes();
@@ -58,7 +58,7 @@ bool System::MergeVerified(int taken_id) {
     map_.RestoreKeyframe(std::move(k));
     if (n + j >= static_cast<int>(keyframe_scale_.size())) keyframe_scale_.resize(n + j + 1, 1.0);
     keyframe_scale_[n + j] = other.KeyframeScale(j) * sigma;
-    if (const BowVector* bow = other.places_.Bow(j)) places_.Add(n + j, *bow);
+    if (const BowVector* bow = other.loop_.places.Bow(j)) loop_.places.Add(n + j, *bow);
   }
   for (auto& [k, features] : other.keyframe_features_) keyframe_features_.emplace(n + k, std::move(features));
   int points = 0;
@@ -92,7 +92,7 @@ bool System::MergeVerified(int taken_id) {
   frames_ = std::move(all);
   next_keyframe_ = map_.NumKeyframes();
   const int candidate = n + pending.match.candidate;
-  merged_blocks_.push_back({n, other.map_.NumKeyframes(), pending.keyframe, candidate, pending.match.k_from_c});
+  loop_.merged_blocks.push_back({n, other.map_.NumKeyframes(), pending.keyframe, candidate, pending.match.k_from_c});
   SystemStats::MapMerge merge;
   merge.frame = map_.keyframe(pending.keyframe).frame_index;
   merge.keyframe = pending.keyframe;
@@ -106,19 +106,19 @@ bool System::MergeVerified(int taken_id) {
   other.map_ = Map();
   other.frames_.clear();
   other.keyframe_features_.clear();
-  other.places_ = PlaceIndex();
-  std::erase_if(merge_sources_, [&](const MergeSource& s) { return s.system == &other; });
-  merge_ba_pending_ = true;
+  other.loop_.places = PlaceIndex();
+  std::erase_if(loop_.merge_sources, [&](const LoopState::MergeSource& s) { return s.system == &other; });
+  loop_.merge_ba_pending = true;
   merge.ms = internal::MsSince(start);
   stats_.maps_merged.push_back(merge);
   return true;
 }
 
 bool System::AdjustMerge(int newest) {
-  if (!merge_ba_pending_) return false;
-  const MergedBlock& b = merged_blocks_.back();
+  if (!loop_.merge_ba_pending) return false;
+  const MergedBlock& b = loop_.merged_blocks.back();
   if (std::none_of(covisible_.begin(), covisible_.end(), [&](int k) { return b.Contains(k); })) return false;
-  merge_ba_pending_ = false;
+  loop_.merge_ba_pending = false;
   // Neither side is the reference: the merged keyframes nearest the match and this map's newest
   // are freed alike (loop_ba_max_keyframes in all, half each); the keyframes that observe their
   // points enter held (pba_selection.h), and hold the rest of both maps where they are.

@@ -118,7 +118,7 @@ void System::RetireTemporaries(int newest) {
     map_.Retire(k);
     candidates_.erase(k);
     keyframe_features_.erase(k);
-    places_.Remove(k);
+    loop_.places.Remove(k);
     ++retired_keyframes_;
   }
 }
