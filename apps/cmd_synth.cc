@@ -20,6 +20,9 @@ Command AddSynth(CLI::App& app) {
   app.add_option("--noise", o->noise_sigma, "Gaussian image noise, grey levels (default 1)");
   app.add_option("--vignette", o->vignette, "Vignetting strength in the corners, 0..0.8 (writes vignette.png)");
   app.add_option("--blur", o->blur_sigma, "Gaussian optical blur sigma, pixels");
+  app.add_option("--rolling-shutter", o->line_delay_us,
+                 "Rolling shutter: microseconds between two rows' exposures, e.g. 30 as phones have (default 0: a "
+                 "global shutter); written to camera.yaml as line_delay_us");
   app.add_flag("--depth", o->depth, "Also write per-frame depth maps (depth/*.tiff, metres)");
   app.add_flag("--turned-textures", o->turned_textures,
                "Textures that do not repeat along the surfaces (each reads its noise tile along turned axes; "

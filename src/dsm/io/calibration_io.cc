@@ -25,7 +25,7 @@ YAML::Node LoadYamlMapping(const fs::path& path) {
 
 CameraYaml ReadCameraYaml(const fs::path& path) {
   const YAML::Node node = LoadYamlMapping(path);
-  static const std::set<std::string> kKeys{"model", "width", "height", "intrinsics", "distortion", "rate_hz"};
+  static const std::set<std::string> kKeys{"model", "width", "height", "intrinsics", "distortion", "rate_hz", "line_delay_us"};
   for (const auto& kv : node) {
     const std::string key = KeyName(kv.first, path);
     if (!kKeys.count(key)) throw InputError(path.string() + ": unknown key '" + key + "'");
@@ -43,6 +43,11 @@ CameraYaml ReadCameraYaml(const fs::path& path) {
     out.rate_hz = Get<double>(node, "rate_hz", path);
     if (!(out.rate_hz > 0)) throw InputError(path.string() + ": key 'rate_hz' must be positive");
   }
+  if (node["line_delay_us"]) {
+    out.line_delay_us = Get<double>(node, "line_delay_us", path);
+    if (!(out.line_delay_us >= 0 && out.line_delay_us * cam.height <= 1e6 / out.rate_hz))
+      throw InputError(path.string() + ": key 'line_delay_us' must be within 0 and the frame interval over the rows");
+  }
   cam.Validate(path.string());
   return out;
 }
@@ -56,6 +61,7 @@ void WriteCameraYaml(const fs::path& path, const CameraYaml& c) {
       << c.camera.cx << ", " << c.camera.cy << "]\ndistortion: [";
   for (size_t i = 0; i < c.camera.distortion.size(); ++i) out << (i ? ", " : "") << c.camera.distortion[i];
   out << "]\nrate_hz: " << c.rate_hz << "\n";
+  if (c.line_delay_us > 0.0) out << "line_delay_us: " << c.line_delay_us << "\n";
   if (!out) throw InputError(path.string() + ": write failed");
 }
 

@@ -24,6 +24,9 @@ namespace dsm {
 struct CameraYaml {
   CameraCalibration camera;
   double rate_hz = 20.0;
+  // Rolling shutter: microseconds between the exposures of two consecutive rows (key
+  // line_delay_us; 0, the default: a global shutter). The frame's timestamp is its first row's.
+  double line_delay_us = 0.0;
 };
 CameraYaml ReadCameraYaml(const std::filesystem::path& path);
 void WriteCameraYaml(const std::filesystem::path& path, const CameraYaml& camera);

@@ -26,6 +26,10 @@ TEST(CameraYaml, RoundTrip) {
   EXPECT_DOUBLE_EQ(back.camera.fy, 190.25);
   EXPECT_EQ(back.camera.distortion, c.camera.distortion);
   EXPECT_DOUBLE_EQ(back.rate_hz, 30);
+  EXPECT_DOUBLE_EQ(back.line_delay_us, 0.0);  // A global shutter unless the file says otherwise.
+  c.line_delay_us = 29.5;
+  WriteCameraYaml(dir / "rolling.yaml", c);
+  EXPECT_DOUBLE_EQ(ReadCameraYaml(dir / "rolling.yaml").line_delay_us, 29.5);
 }
 
 TEST(CameraYaml, MalformedFilesGiveClearErrors) {
@@ -39,6 +43,8 @@ TEST(CameraYaml, MalformedFilesGiveClearErrors) {
   EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "type.yaml"); }).find("'width'"), std::string::npos);
   WriteText(dir / "neg.yaml", "model: pinhole\nwidth: 640\nheight: 480\nintrinsics: [-400, 400, 320, 240]\n");
   EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "neg.yaml"); }).find("focal"), std::string::npos);
+  WriteText(dir / "delay.yaml", good + "rate_hz: 30\nline_delay_us: 80\n");  // 38 ms of rows in 33 ms.
+  EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "delay.yaml"); }).find("'line_delay_us'"), std::string::npos);
   WriteText(dir / "syntax.yaml", "model: [pinhole\n");
   EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "syntax.yaml"); }).find("syntax.yaml"), std::string::npos);
   EXPECT_NE(MessageOf([&] { ReadCameraYaml(dir / "none.yaml"); }).find("not found"), std::string::npos);

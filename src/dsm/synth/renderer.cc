@@ -13,14 +13,15 @@ namespace {
 
 constexpr int kTile = 16;
 
-// Renders the pixels of one kTile-high band, tile by tile; each tile tests only the primitives
-// inside the cone of its corner rays.
-void RenderBand(const Scene& scene, const PinholeCamera& cam, const Eigen::Matrix3f& R, const Eigen::Vector3f& o,
-                int band, Image<float>* albedo, Image<float>* depth) {
+// Renders the pixels of rows v0 .. v1 - 1 seen from one pose, tile by tile; each tile tests only
+// the primitives inside the cone of its corner rays.
+void RenderRows(const Scene& scene, const PinholeCamera& cam, const SE3d& world_from_cam, int v0, int v1,
+                Image<float>* albedo, Image<float>* depth) {
+  const Eigen::Matrix3f R = world_from_cam.Rotation().cast<float>();
+  const Eigen::Vector3f o = world_from_cam.Translation().cast<float>();
   const float inv_f = static_cast<float>(2.0 / (cam.fx + cam.fy));
   const float inv_fx = static_cast<float>(1.0 / cam.fx), inv_fy = static_cast<float>(1.0 / cam.fy);
   const float cx = static_cast<float>(cam.cx), cy = static_cast<float>(cam.cy);
-  const int v0 = band * kTile, v1 = std::min(cam.height, v0 + kTile);
   const auto corner_ray = [&](double u, double v) {
     return Eigen::Vector3f(R * Eigen::Vector3f(static_cast<float>((u - cam.cx) / cam.fx),
                                                static_cast<float>((v - cam.cy) / cam.fy), 1.f));
@@ -84,13 +85,27 @@ void RenderFrame(const Scene& scene, const PinholeCamera& camera, const SE3d& wo
                  Image<float>* depth, bool parallel) {
   *albedo = Image<float>(camera.width, camera.height);
   if (depth) *depth = Image<float>(camera.width, camera.height);
-  const Eigen::Matrix3f R = world_from_cam.Rotation().cast<float>();
-  const Eigen::Vector3f o = world_from_cam.Translation().cast<float>();
   const int bands = (camera.height + kTile - 1) / kTile;
+  const auto band = [&](int b) {
+    RenderRows(scene, camera, world_from_cam, b * kTile, std::min(camera.height, (b + 1) * kTile), albedo, depth);
+  };
   if (parallel) {
-    tbb::parallel_for(0, bands, [&](int b) { RenderBand(scene, camera, R, o, b, albedo, depth); });
+    tbb::parallel_for(0, bands, band);
   } else {
-    for (int b = 0; b < bands; ++b) RenderBand(scene, camera, R, o, b, albedo, depth);
+    for (int b = 0; b < bands; ++b) band(b);
+  }
+}
+
+void RenderRollingShutterFrame(const Scene& scene, const PinholeCamera& camera,
+                               const std::vector<SE3d>& row_world_from_cam, Image<float>* albedo, Image<float>* depth,
+                               bool parallel) {
+  *albedo = Image<float>(camera.width, camera.height);
+  if (depth) *depth = Image<float>(camera.width, camera.height);
+  const auto row = [&](int v) { RenderRows(scene, camera, row_world_from_cam[v], v, v + 1, albedo, depth); };
+  if (parallel) {
+    tbb::parallel_for(0, camera.height, row);
+  } else {
+    for (int v = 0; v < camera.height; ++v) row(v);
   }
 }
 
@@ -128,7 +143,11 @@ Image<uint8_t> FormImage(const Image<float>& albedo, const Photometry& p, const 
 RenderedFrame RenderSequenceFrame(const SynthSequence& sequence, size_t i, const FormationOptions& formation) {
   RenderedFrame out;
   Image<float> albedo;
-  RenderFrame(sequence.scene, sequence.camera, sequence.world_from_cam[i], &albedo, &out.depth);
+  if (sequence.line_delay_frames > 0.0) {
+    RenderRollingShutterFrame(sequence.scene, sequence.camera, sequence.RowPoses(i), &albedo, &out.depth);
+  } else {
+    RenderFrame(sequence.scene, sequence.camera, sequence.world_from_cam[i], &albedo, &out.depth);
+  }
   out.image = ToFloat(FormImage(albedo, sequence.photometry[i], formation));
   return out;
 }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "dsm/geometry/camera.h"
 #include "dsm/image/image.h"
@@ -21,6 +22,12 @@ namespace dsm::synth {
 // rendered with TBB (the result is identical).
 void RenderFrame(const Scene& scene, const PinholeCamera& camera, const SE3d& world_from_cam, Image<float>* albedo,
                  Image<float>* depth, bool parallel = true);
+
+// A rolling shutter: row v seen from row_world_from_cam[v] (one pose per row, the camera's at the
+// row's exposure time).
+void RenderRollingShutterFrame(const Scene& scene, const PinholeCamera& camera,
+                               const std::vector<SE3d>& row_world_from_cam, Image<float>* albedo, Image<float>* depth,
+                               bool parallel = true);
 
 // Radial vignette V = 1 - strength * (r / r_corner)^2, in (0, 1].
 Image<float> MakeVignette(int width, int height, double strength);

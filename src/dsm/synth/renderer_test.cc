@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "dsm/testing/input_error.h"
 #include "dsm/util/check.h"
 
 namespace dsm::synth {
@@ -76,9 +77,13 @@ class EveryScene : public ::testing::TestWithParam<std::string> {
 TEST_P(EveryScene, WarpingWithTrueDepthAndPosesReproducesTheFrame) {
   const SynthSequence seq = Sequence();
   for (auto [a, b] : {std::pair<size_t, size_t>{0, 4}, {100, 103}, {200, 210}}) {
-    // At most 0.3 m apart: walking down a corridor, the footprint of the band-limited textures
-    // changes with the distance, and with it what a pixel sees.
-    while (b > a + 1 && (seq.world_from_cam[b].Translation() - seq.world_from_cam[a].Translation()).norm() > 0.3) --b;
+    // At most 0.3 m and 20 degrees apart: walking down a corridor, or turning to see a wall
+    // obliquely, the footprint of the band-limited textures changes, and with it what a pixel sees.
+    const auto apart = [&](size_t j) {
+      const SE3d a_from_j = seq.world_from_cam[a].Inverse() * seq.world_from_cam[j];
+      return a_from_j.Translation().norm() > 0.3 || a_from_j.So3().Log().norm() > 20.0 * M_PI / 180.0;
+    };
+    while (b > a + 1 && apart(b)) --b;
     const WarpError e = Warp(seq, a, b);
     EXPECT_GT(e.pixels, 5000u) << a << " -> " << b;
     EXPECT_LT(e.mean_abs, 3.0) << a << " -> " << b;
@@ -138,12 +143,18 @@ TEST(Scene, PlainPillarsKeepATenthOfTheirContrast) {
   EXPECT_GT(pillar, 0.05f);
 }
 
-TEST(Sequences, DeterministicPerSeed) {
+// A short sequence of `scene` at 160 x 120.
+SynthOptions SmallSequence(const std::string& scene, int frames) {
   SynthOptions options;
-  options.scene = "shake";
-  options.frames = 20;
+  options.scene = scene;
+  options.frames = frames;
   options.width = 160;
   options.height = 120;
+  return options;
+}
+
+TEST(Sequences, DeterministicPerSeed) {
+  SynthOptions options = SmallSequence("shake", 20);
   const SynthSequence a = MakeSequence(options), b = MakeSequence(options);
   options.seed = 2;
   const SynthSequence c = MakeSequence(options);
@@ -169,6 +180,44 @@ TEST(Sequences, OptionsAreValidated) {
   options.width = 640;
   options.noise_sigma = -1;
   EXPECT_THROW(MakeSequence(options), InputError);
+}
+
+TEST(RollingShutter, EachRowIsSeenFromTheCameraAtItsOwnTime) {
+  SynthOptions options = SmallSequence("handheld", 40);
+  options.rate_hz = 30;
+  options.line_delay_us = 200;  // The readout takes 24 ms of the 33 ms between frames.
+  const SynthSequence seq = MakeSequence(options);
+  const size_t frame = 30;  // Turning at about 60 deg/s.
+  const std::vector<SE3d> rows = seq.RowPoses(frame);
+  ASSERT_EQ(rows.size(), 120u);
+  EXPECT_EQ(rows[0].Matrix(), seq.world_from_cam[frame].Matrix());  // The timestamp is the first row's.
+  // Row 119 is exposed 119 * 200 us later: the camera's pose 0.714 frame intervals on.
+  EXPECT_TRUE(rows[119].Matrix().isApprox(seq.pose_at(frame + 119 * 200e-6 * 30).Matrix(), 1e-12));
+  Image<float> rolling, global, at_row;
+  RenderRollingShutterFrame(seq.scene, seq.camera, rows, &rolling, nullptr);
+  RenderFrame(seq.scene, seq.camera, rows[0], &global, nullptr);
+  for (int v : {0, 60, 119}) {
+    RenderFrame(seq.scene, seq.camera, rows[v], &at_row, nullptr);
+    for (int u = 0; u < 160; ++u) ASSERT_NEAR(rolling(u, v), at_row(u, v), 1e-6f) << "row " << v << ", column " << u;
+  }
+  // The last rows are seen from elsewhere than the first: the image differs from a global shutter's.
+  double diff = 0.0;
+  for (int u = 0; u < 160; ++u) diff += std::abs(rolling(u, 119) - global(u, 119));
+  EXPECT_GT(diff / 160, 0.02);
+  for (int u = 0; u < 160; ++u) ASSERT_NEAR(rolling(u, 0), global(u, 0), 1e-6f) << "column " << u;
+}
+
+TEST(RollingShutter, TheReadoutFitsInTheFrameInterval) {
+  SynthOptions options;
+  options.scene = "handheld";
+  options.rate_hz = 30;
+  options.height = 480;
+  options.line_delay_us = 69;  // 33.1 ms of rows within 33.3 ms.
+  EXPECT_NO_THROW(options.Validate());
+  options.line_delay_us = 70;
+  EXPECT_NE(testing::MessageOf([&] { options.Validate(); }).find("--rolling-shutter"), std::string::npos);
+  options.line_delay_us = -1;
+  EXPECT_THROW(options.Validate(), InputError);
 }
 
 TEST(FormImage, NoiseVignetteAndBlur) {

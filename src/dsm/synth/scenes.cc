@@ -215,7 +215,8 @@ double ThereAndBack(double tau) { return 0.5 - 0.5 * std::cos(kTwoPi * tau); }
 
 }  // namespace
 
-std::vector<std::string> SceneNames() { return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan", "block", "twins"};
+std::vector<std::string> SceneNames() {
+  return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan", "block", "twins", "handheld"};
 }
 
 std::string SceneNameList(const std::string& separator, const std::string& last) {
@@ -244,6 +245,10 @@ void SynthOptions::Validate() const {
   if (!(noise_sigma >= 0 && noise_sigma <= 50)) throw InputError("--noise must be within 0..50 grey levels");
   if (!(vignette >= 0 && vignette <= 0.8)) throw InputError("--vignette must be within 0..0.8");
   if (!(blur_sigma >= 0 && blur_sigma <= 10)) throw InputError("--blur must be within 0..10 pixels");
+  // The rows are read out within the frame interval.
+  if (!(line_delay_us >= 0 && line_delay_us * height <= 1e6 / rate_hz))
+    throw InputError("--rolling-shutter must be within 0.." + std::to_string(1e6 / rate_hz / height) +
+                     " us per row (the readout of all rows within one frame interval)");
   ParseDefects(defects);
 }
 
@@ -256,6 +261,22 @@ SE3d LookAt(const Eigen::Vector3d& position, const Eigen::Vector3d& target) {
   Eigen::Matrix3d R;
   R << x, y, z;
   return SE3d(SO3d(R), position);
+}
+
+namespace {
+
+// The hand-held scene's roll about the optical axis at time t_s.
+SO3d HandRoll(double t_s) {
+  const double roll = std::min(1.0, t_s) * 0.2 * std::sin(kTwoPi * 0.45 * t_s + 2.0);
+  return SO3d::Exp(Eigen::Vector3d(0.0, 0.0, roll));
+}
+
+}  // namespace
+
+std::vector<SE3d> SynthSequence::RowPoses(size_t i) const {
+  std::vector<SE3d> rows(camera.height);
+  for (int v = 0; v < camera.height; ++v) rows[v] = pose_at(static_cast<double>(i) + v * line_delay_frames);
+  return rows;
 }
 
 SynthSequence MakeSequence(const SynthOptions& options) {
@@ -287,14 +308,16 @@ SynthSequence MakeSequence(const SynthOptions& options) {
   const Jitter jitter(rng);
   const Jitter look_jitter(rng);
 
-  for (int i = 0; i < n; ++i) {
-    const double t_s = i / options.rate_hz;
-    const double tau = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
+  // The camera at frame position f (frame i at f = i; a rolling shutter's row between frames).
+  const double rate_hz = options.rate_hz;
+  seq.pose_at = [name, n, rate_hz, jitter, look_jitter](double f) {
+    const double t_s = f / rate_hz;
+    const double tau = n > 1 ? f / (n - 1) : 0.0;
     Eigen::Vector3d position, target;
     if (name == "loop" || name == "exposure") {
       // An ellipse at a steady pace, looking outwards and a little ahead: two laps in the default
       // length, more in longer sequences (20 in 6000 frames).
-      const double a = 2.0 * kTwoPi * i / (DefaultFrames(name) - 1);
+      const double a = 2.0 * kTwoPi * f / (DefaultFrames(name) - 1);
       position = Eigen::Vector3d(1.9 * std::cos(a), 1.3 * std::sin(a), 1.5) + 0.03 * jitter.At(t_s);
       const double look = a + 0.35;
       target = position + Eigen::Vector3d(std::cos(look), std::sin(look), -0.12) + 0.04 * look_jitter.At(t_s);
@@ -342,6 +365,19 @@ SynthSequence MakeSequence(const SynthOptions& options) {
       const double pitch = 0.08 + 0.1 * std::sin(kTwoPi * 0.17 * t_s);
       target = position + Eigen::Vector3d(std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch)) +
                0.03 * look_jitter.At(t_s);
+    } else if (name == "handheld") {
+      // A phone held out in the furnished room and turned about, as people film: yaw swings of
+      // +-34 deg (0.35 Hz), pitch +-14 deg (0.5 Hz) and roll +-11 deg (HandRoll) with hand tremor,
+      // while the body sways by a few decimetres: the turn peaks near 90 deg/s. The swings grow
+      // over the first second.
+      const double ramp = std::min(1.0, t_s);
+      position = Eigen::Vector3d(0.3 * std::sin(kTwoPi * 0.1 * t_s), -0.5 + 0.2 * std::sin(kTwoPi * 0.13 * t_s + 1.0),
+                                 1.5 + 0.05 * std::sin(kTwoPi * 0.4 * t_s)) +
+                 0.03 * jitter.At(t_s);
+      const double yaw = 0.6 + ramp * 0.6 * std::sin(kTwoPi * 0.35 * t_s);
+      const double pitch = -0.05 + ramp * 0.25 * std::sin(kTwoPi * 0.5 * t_s + 0.7);
+      target = position + Eigen::Vector3d(std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch)) +
+               0.02 * look_jitter.At(t_s);
     } else {  // rotation
       // A small circle (10 cm) with large yaw (+-70 deg) and pitch (+-20 deg) swings.
       const double a = kTwoPi * 0.25 * t_s;
@@ -351,7 +387,14 @@ SynthSequence MakeSequence(const SynthOptions& options) {
       const double pitch = ramp * 0.35 * std::sin(kTwoPi * 0.21 * t_s + 0.7);
       target = position + Eigen::Vector3d(std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch));
     }
-    seq.world_from_cam.push_back(LookAt(position, target));
+    SE3d pose = LookAt(position, target);
+    if (name == "handheld") pose = pose * SE3d(HandRoll(t_s), Eigen::Vector3d::Zero());
+    return pose;
+  };
+  seq.line_delay_frames = options.line_delay_us * 1e-6 * options.rate_hz;
+  for (int i = 0; i < n; ++i) {
+    const double t_s = i / options.rate_hz;
+    seq.world_from_cam.push_back(seq.pose_at(i));
     seq.t_ns.push_back(kStartNs + static_cast<int64_t>(std::llround(t_s * 1e9)));
     Photometry p;
     if (name == "exposure") {

@@ -15,9 +15,16 @@
 //             the drift of a long loop is far beyond what re-observation alone can close
 //   twins     down a corridor whose second half is an exact copy of its first (perceptual
 //             aliasing: a place that looks seen before but is not)
+//   handheld  a phone held out in the furnished room and turned about in yaw, pitch and roll
+//             (peaks near 90 deg/s) while the body sways a little: mostly rotation
+//
+// With a rolling shutter (line_delay_us > 0) each image row is seen at its own time: row v of
+// frame i at t_i + v * line_delay, the frame's timestamp t_i being its first row's, and its
+// ground truth pose the camera's then.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -41,6 +48,7 @@ struct SynthOptions {
   std::string defects;       // Bad frames to inject (defects.h), e.g. "black:20-24,corrupt:30".
   bool turned_textures = false;  // Textures that do not repeat along the surfaces (Texture::turned).
   bool plain_pillars = false;    // Floor-to-ceiling cylinders without texture (Scene::PlainPillars).
+  double line_delay_us = 0.0;    // Rolling shutter: the time between two rows' exposures (0: global).
 
   void Validate() const;  // Throws InputError naming the option.
 };
@@ -61,9 +69,14 @@ struct SynthSequence {
   Scene scene;
   PinholeCamera camera;
   std::vector<int64_t> t_ns;
-  std::vector<SE3d> world_from_cam;
+  std::vector<SE3d> world_from_cam;  // At t_ns (pose_at(i)).
   std::vector<Photometry> photometry;
+  // world_from_cam at frame position f: frame i at f = i, the time between frames linear in f.
+  std::function<SE3d(double f)> pose_at;
+  double line_delay_frames = 0.0;  // Rolling shutter: the delay between rows in frame intervals.
   size_t size() const { return world_from_cam.size(); }
+  // Frame i's camera at each row's exposure (row v at i + v * line_delay_frames).
+  std::vector<SE3d> RowPoses(size_t i) const;
 };
 
 SynthSequence MakeSequence(const SynthOptions& options);
