@@ -45,6 +45,9 @@ struct Dataset {
   // of the TUM RGB-D benchmark, KITTI's calibration sized from the first image).
   std::filesystem::path calibration_file;
   UndistortMode undistort_mode = UndistortMode::kCrop;
+  // Rolling shutter: microseconds between two rows' exposures (camera.yaml's line_delay_us); 0: a
+  // global shutter. A frame's timestamp is its first row's.
+  double line_delay_us = 0.0;
   std::vector<FrameRecord> frames;  // Strictly increasing timestamps.
   Trajectory ground_truth;          // world_from_cam; empty when the dataset has none.
   std::optional<PhotometricCalibration> photometric;

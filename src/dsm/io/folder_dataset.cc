@@ -36,6 +36,7 @@ Dataset ReadFolder(const fs::path& root) {
   d.format = "folder";
   d.root = root;
   const CameraYaml cam = ReadCameraYaml(root / "camera.yaml");
+  d.line_delay_us = cam.line_delay_us;
   d.camera = cam.camera;
   d.calibration_file = root / "camera.yaml";
   d.images = MakeFolderStore(root / "images");

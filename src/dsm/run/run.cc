@@ -134,6 +134,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   system_options.keyframe_features = options.pace == Pace::kRealtime;
   system_options.skip_traces_while_mapping = options.pace == Pace::kFree;
   system_options.map_snapshots = options.view_port >= 0;
+  system_options.line_delay_s = dataset.line_delay_us * 1e-6;
   const Undistorter undistorter = FrameUndistorter(dataset, options.system);
   const auto map_dir = [&](size_t index) { return index == 0 ? out_dir : out_dir / ("map_" + std::to_string(index)); };
   std::optional<DebugWriter> debug;

@@ -18,6 +18,7 @@
 #include "dsm/system/system_internal.h"
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/tracking/initializer.h"
+#include "dsm/tracking/rolling_shutter.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -252,6 +253,7 @@ void System::HandToMappingSide(FrameWork* f) {
   job.alpha = result.alpha;
   job.beta = result.beta;
   job.relocalisations = stats_.relocalisations;
+  job.readout = Readout();  // With the step to this frame: the mapping side's image is rectified.
   waits_.for_pending_keyframe = false;
   if (ShouldCreateKeyframe(scores, options_.keyframe) &&
       track_.quality.CheckKeyframeImage(f->signature.texture, f->previous_texture)) {
@@ -313,7 +315,16 @@ void System::RunFinishJob(int kf) {
 
 void System::RunJob(const MappingJob& job) {
   const auto t0 = std::chrono::steady_clock::now();
-  TraceCandidates(*job.pyramid, job.reference, job.frame_from_reference, job.alpha, job.beta, job.exposure);
+  // A rolling shutter's frame is traced and mapped as the global shutter at its timestamp
+  // would have seen it.
+  const std::shared_ptr<const ImagePyramid> pyramid =
+      job.readout.line_delay_s > 0.0
+          ? std::make_shared<const ImagePyramid>(RectifyRotation(job.pyramid->Values(0), camera_,
+                                                                 job.readout.line_delay_s,
+                                                                 job.readout.angular_velocity),
+                                                 options_.pyramid_levels, /*gradients=*/false)
+          : job.pyramid;
+  TraceCandidates(*pyramid, job.reference, job.frame_from_reference, job.alpha, job.beta, job.exposure);
   stats_.tracing_ms.push_back(MsSince(t0));
   if (job.relocalisations > relocalisations_mapped_) {
     relocalisations_mapped_ = job.relocalisations;
@@ -329,7 +340,7 @@ void System::RunJob(const MappingJob& job) {
     window_.push_back(job.reference);
   }
   const Keyframe& ref = map_.keyframe(job.reference);
-  CreateKeyframe(job.index, job.t_ns, job.pyramid, job.exposure, job.frame_from_reference * ref.cam_from_world,
+  CreateKeyframe(job.index, job.t_ns, pyramid, job.exposure, job.frame_from_reference * ref.cam_from_world,
                  FrameBrightness(ref, job.alpha, job.beta, job.exposure));
   const int kf = map_.NumKeyframes() - 1;
   DSM_CHECK(kf == job.keyframe, "keyframes were mapped out of order");
@@ -390,6 +401,11 @@ void System::Finish() {
   MergeInitTracked();
 }
 
+ReadoutTurn System::Readout() const {
+  if (!(options_.line_delay_s > 0.0 && frame_interval_ns_ > 0.0 && HasTrustedFrame())) return {};
+  return {options_.line_delay_s, track_.velocity.So3().Log() / (frame_interval_ns_ * 1e-9)};
+}
+
 TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const {
   // Relative brightness guess: the last one, corrected for the change of exposure time.
   const double alpha_guess = track_.alpha + std::log(exposure / track_.exposure);
@@ -407,7 +423,8 @@ TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double ex
   std::stable_sort(ranked.begin() + 1, ranked.end());
   if (ranked[1].first < 0.7 * ranked[0].first) std::swap(ranked[0], ranked[1]);
   const auto track = [&](int attempt) {
-    return tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, track_.beta, gap);
+    return tracker_->Track(pyramid, guesses[ranked[attempt].second], alpha_guess, track_.beta, gap,
+                           state_ == TrackingState::kTracking ? Readout() : ReadoutTurn{});
   };
   // Other guesses only when the first failed or left a much larger residual than usual (about a
   // fifth of the frames: the residual grows until the next keyframe). The second and third are

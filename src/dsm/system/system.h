@@ -258,6 +258,7 @@ class System {
     ErrorModel model;   // Fitted to its tracking residuals.
     double rmse = 0.0, inlier_ratio = 0.0;
     int relocalisations = 0;  // Confirmed on the tracking side before this frame.
+    ReadoutTurn readout;      // A rolling shutter's turn through its readout (none: global).
   };
   // What tracking needs of its reference keyframe: published by the mapping side once the
   // keyframe is mapped, never changed after.
@@ -322,6 +323,9 @@ class System {
   // world_from_cam of a frame at `frame_from_reference` from the tracking reference.
   SE3d WorldFromCam(const SE3d& frame_from_reference) const;
   TrackResult TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const;
+  // The camera's turn through a rolling shutter's readout, as over the last frame step (none with
+  // a global shutter or before a frame is trusted).
+  ReadoutTurn Readout() const;
   // The frame's pose and brightness relative to the reference become the last trusted ones; the
   // velocity is the step from the last trusted frame per frame, or `velocity` when given.
   void CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity);

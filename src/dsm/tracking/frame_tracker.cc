@@ -86,6 +86,9 @@ struct Projection {
   Eigen::Vector3f t;
   float fx, fy, cx, cy;
   float lo, x_hi, y_hi;
+  // A rolling shutter (ReadoutTurn): the turn vector w tau of level row v is v a + b.
+  bool rolling = false;
+  Eigen::Vector3f a = Eigen::Vector3f::Zero(), b = Eigen::Vector3f::Zero();
 };
 
 // Pixels [begin, end): p = R q + t rho (q_z = 1), u = pi(p); out-of-view pixels go to (lo, lo).
@@ -103,6 +106,31 @@ DSM_SIMD_CLONES void ProjectPixels(const Projection& pr, const float* qx, const 
     const float ui = pr.fx * px * iz + pr.cx, vi = pr.fy * py * iz + pr.cy;
     // Bitwise: a short-circuit && is control flow, which keeps the loop from vectorising.
     const bool ok = (pz > 1e-6f) & (ui >= pr.lo) & (vi >= pr.lo) & (ui < pr.x_hi) & (vi < pr.y_hi);
+    valid[i] = ok ? 1.f : 0.f;
+    u[i] = ok ? ui : pr.lo;
+    v[i] = ok ? vi : pr.lo;
+  }
+}
+
+// ProjectPixels with a rolling shutter: p as there, moved by the turn at the row it lands on,
+// p + (v a + b) x p, and projected again.
+DSM_SIMD_CLONES void ProjectPixelsRolling(const Projection& pr, const float* qx, const float* qy, const float* rho,
+                                          size_t begin, size_t end, float* u, float* v, float* valid) {
+  const float R00 = pr.R(0, 0), R01 = pr.R(0, 1), R02 = pr.R(0, 2), R10 = pr.R(1, 0), R11 = pr.R(1, 1),
+              R12 = pr.R(1, 2), R20 = pr.R(2, 0), R21 = pr.R(2, 1), R22 = pr.R(2, 2);
+  const float tx = pr.t.x(), ty = pr.t.y(), tz = pr.t.z();
+  const float ax = pr.a.x(), ay = pr.a.y(), az = pr.a.z(), bx = pr.b.x(), by = pr.b.y(), bz = pr.b.z();
+#pragma omp simd
+  for (size_t i = begin; i < end; ++i) {
+    const float px = R00 * qx[i] + R01 * qy[i] + R02 + tx * rho[i];
+    const float py = R10 * qx[i] + R11 * qy[i] + R12 + ty * rho[i];
+    const float pz = R20 * qx[i] + R21 * qy[i] + R22 + tz * rho[i];
+    const float row = pr.fy * py / pz + pr.cy;
+    const float wx = row * ax + bx, wy = row * ay + by, wz = row * az + bz;
+    const float sx = px + (wy * pz - wz * py), sy = py + (wz * px - wx * pz), sz = pz + (wx * py - wy * px);
+    const float iz = 1.f / sz;
+    const float ui = pr.fx * sx * iz + pr.cx, vi = pr.fy * sy * iz + pr.cy;
+    const bool ok = (pz > 1e-6f) & (sz > 1e-6f) & (ui >= pr.lo) & (vi >= pr.lo) & (ui < pr.x_hi) & (vi < pr.y_hi);
     valid[i] = ok ? 1.f : 0.f;
     u[i] = ok ? ui : pr.lo;
     v[i] = ok ? vi : pr.lo;
@@ -171,7 +199,7 @@ DSM_SIMD_CLONES void AccumulateSystem(const float* r, const float* valid, const 
 }  // namespace
 
 void FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, double alpha, double beta,
-                            Residuals* out) const {
+                            Residuals* out, const ReadoutTurn& turn) const {
   const LevelData& level = levels_[l];
   const Eigen::Matrix3f R = T.Rotation().cast<float>();
   const Eigen::Vector3f t = T.Translation().cast<float>();
@@ -183,10 +211,18 @@ void FrameTracker::Evaluate(int l, const ImagePyramid& frame, const SE3d& T, dou
   out->valid.resize(n);
   out->u.resize(n);
   out->v.resize(n);
-  const Projection projection{R, t, fx, fy, cx, cy, 2.f, frame.width(l) - 3.f, frame.height(l) - 3.f};
+  Projection projection{R, t, fx, fy, cx, cy, 2.f, frame.width(l) - 3.f, frame.height(l) - 3.f};
+  if (turn.line_delay_s > 0.0) {
+    // Level row v is level-0 row v s + (s - 1) / 2, s = 2^l, seen at that row times the delay.
+    const double s = 1 << l;
+    projection.rolling = true;
+    projection.a = (turn.angular_velocity * (turn.line_delay_s * s)).cast<float>();
+    projection.b = (turn.angular_velocity * (turn.line_delay_s * 0.5 * (s - 1.0))).cast<float>();
+  }
   const auto pass = [&](size_t begin, size_t end) {
-    ProjectPixels(projection, level.qx.data(), level.qy.data(), level.idepth.data(), begin, end, out->u.data(),
-                  out->v.data(), out->valid.data());
+    (projection.rolling ? ProjectPixelsRolling : ProjectPixels)(projection, level.qx.data(), level.qy.data(),
+                                                                level.idepth.data(), begin, end, out->u.data(),
+                                                                out->v.data(), out->valid.data());
     SampleResiduals(frame, l, out->u.data(), out->v.data(), out->valid.data(), level.g.data(), ea, fb, begin, end,
                     out->r.data());
   };
@@ -277,18 +313,18 @@ double FrameTracker::CoarseEnergyOverAll(const ImagePyramid& frame, const SE3d& 
 }
 
 TrackResult FrameTracker::Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess,
-                                double beta_guess, int frames) const {
-  TrackResult r = TrackOnce(frame, guess, alpha_guess, beta_guess, /*hold_brightness=*/false);
+                                double beta_guess, int frames, const ReadoutTurn& turn) const {
+  TrackResult r = TrackOnce(frame, guess, alpha_guess, beta_guess, /*hold_brightness=*/false, turn);
   const int steps = std::clamp(frames, 1, options_.max_alpha_frames);
   if (!r.ok || std::abs(r.alpha - alpha_guess) <= options_.max_alpha_step * steps) return r;
-  TrackResult held = TrackOnce(frame, guess, alpha_guess, beta_guess, /*hold_brightness=*/true);
+  TrackResult held = TrackOnce(frame, guess, alpha_guess, beta_guess, /*hold_brightness=*/true, turn);
   held.brightness_held = true;
   held.iterations += r.iterations;
   return held;
 }
 
 TrackResult FrameTracker::TrackOnce(const ImagePyramid& frame, const SE3d& guess, double alpha_guess,
-                                    double beta_guess, bool hold_brightness) const {
+                                    double beta_guess, bool hold_brightness, const ReadoutTurn& turn) const {
   TrackResult result;
   result.frame_from_keyframe = guess;
   result.alpha = alpha_guess;
@@ -304,7 +340,7 @@ TrackResult FrameTracker::TrackOnce(const ImagePyramid& frame, const SE3d& guess
   std::vector<float> weighted;
   for (int l = static_cast<int>(levels_.size()) - 1; l >= 0; --l) {
     const LevelData& level = levels_[l];
-    Evaluate(l, frame, T, alpha, beta, &res);
+    Evaluate(l, frame, T, alpha, beta, &res, turn);
     weighted.clear();
     for (size_t i = 0; i < res.r.size(); ++i)
       if (res.valid[i] != 0.f) weighted.push_back(level.sqrt_grad_weight[i] * res.r[i]);
@@ -330,7 +366,7 @@ TrackResult FrameTracker::TrackOnce(const ImagePyramid& frame, const SE3d& guess
       const bool small = delta.segment<3>(3).norm() * f + delta.head<3>().norm() * f * mean_idepth_ <
                              options_.convergence_px &&
                          std::abs(delta(6)) < 1e-4;
-      Evaluate(l, frame, T_new, alpha_new, beta_new, &trial);
+      Evaluate(l, frame, T_new, alpha_new, beta_new, &trial, turn);
       const Energy next = SumEnergy(l, trial, model);
       // Compare mean energies so that pixels leaving the image do not look like progress.
       const bool better = next.valid > 0 && next.Mean() < energy.Mean() && next.valid >= 0.9 * energy.valid;

@@ -94,6 +94,14 @@ struct TrackResult {
   bool brightness_held = false;   // Tracked again with the brightness held (see FrameTracker::Track).
 };
 
+// A rolling shutter's turn during the readout (rolling_shutter.h): level-0 row v of the frame is
+// seen from the camera turned by Exp(w v delta) from its pose at the timestamp (first-order in
+// the turn, translation during the readout left out). Zero delay: a global shutter.
+struct ReadoutTurn {
+  double line_delay_s = 0.0;
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  // rad/s, camera frame.
+};
+
 class FrameTracker {
  public:
   explicit FrameTracker(const TrackerOptions& options);
@@ -111,8 +119,10 @@ class FrameTracker {
   // flat prediction, e^alpha -> 0 and beta -> the mean intensity, fits an image the points do not
   // match yet, and holds the pose there).
   // The pose is then tracked again with (alpha, beta) held at the guess (brightness_held).
+  // With `turn`, the frame's pixels are predicted where a rolling shutter saw them, and the pose
+  // is the camera's at the frame's timestamp (its first row's).
   TrackResult Track(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess,
-                    int frames = 1) const;
+                    int frames = 1, const ReadoutTurn& turn = {}) const;
 
   // Energy of the guess at the coarsest level (to rank alternative guesses cheaply).
   double CoarseEnergy(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta) const;
@@ -148,11 +158,12 @@ class FrameTracker {
     Eigen::Matrix<double, 8, 8> H = Eigen::Matrix<double, 8, 8>::Zero();
     Eigen::Matrix<double, 8, 1> b = Eigen::Matrix<double, 8, 1>::Zero();
   };
-  void Evaluate(int level, const ImagePyramid& frame, const SE3d& T, double alpha, double beta, Residuals* out) const;
+  void Evaluate(int level, const ImagePyramid& frame, const SE3d& T, double alpha, double beta, Residuals* out,
+                const ReadoutTurn& turn = {}) const;
   Energy SumEnergy(int level, const Residuals& res, const ErrorModel& model) const;
   // One coarse-to-fine alignment; `hold_brightness`: the pose alone.
   TrackResult TrackOnce(const ImagePyramid& frame, const SE3d& guess, double alpha_guess, double beta_guess,
-                        bool hold_brightness) const;
+                        bool hold_brightness, const ReadoutTurn& turn) const;
   // The energy of the coarsest level at one state, unoptimised (CoarseEnergy, CoarseEnergyOverAll).
   Energy CoarseSum(const ImagePyramid& frame, const SE3d& guess, double alpha, double beta, const ErrorModel& model) const;
   System8 SumSystem(int level, const Residuals& res, const ErrorModel& model, double alpha) const;
