@@ -100,6 +100,14 @@ ImagePyramid ImagePyramid::WithGradients() const {
   return FromFixed(level0, levels());
 }
 
+Image<float> ImagePyramid::ValuesLevel0() const {
+  if (!HasGradients()) return values_[0];
+  const Image<PixelFixed>& l0 = fixed_[0];
+  Image<float> out(l0.width(), l0.height());
+  for (size_t i = 0; i < l0.size(); ++i) out.data()[i] = l0.data()[i].value * (1.f / kValueScale);
+  return out;
+}
+
 Image<uint16_t> ImagePyramid::FixedLevel0() const {
   const Image<PixelFixed>& l0 = fixed_[0];
   Image<uint16_t> out(l0.width(), l0.height());

@@ -52,8 +52,8 @@ class ImagePyramid {
   // Level 0 of a full pyramid in fixed point (what FromFixed takes).
   Image<uint16_t> FixedLevel0() const;
 
-  // Level l of a pyramid without gradients (a frame's).
-  const Image<float>& Values(int l) const { return values_[l]; }
+  // Level 0's intensities (grey levels), whether or not the pyramid has gradients.
+  Image<float> ValuesLevel0() const;
   int levels() const { return static_cast<int>(HasGradients() ? fixed_.size() : values_.size()); }
   int width(int l) const { return HasGradients() ? fixed_[l].width() : values_[l].width(); }
   int height(int l) const { return HasGradients() ? fixed_[l].height() : values_[l].height(); }

@@ -319,7 +319,7 @@ void System::RunJob(const MappingJob& job) {
   // would have seen it.
   const std::shared_ptr<const ImagePyramid> pyramid =
       job.readout.line_delay_s > 0.0
-          ? std::make_shared<const ImagePyramid>(RectifyRotation(job.pyramid->Values(0), camera_,
+          ? std::make_shared<const ImagePyramid>(RectifyRotation(job.pyramid->ValuesLevel0(), camera_,
                                                                  job.readout.line_delay_s,
                                                                  job.readout.angular_velocity),
                                                  options_.pyramid_levels, /*gradients=*/false)

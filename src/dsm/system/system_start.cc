@@ -13,6 +13,7 @@
 #include "dsm/system/system.h"
 #include "dsm/system/system_internal.h"
 #include "dsm/tracking/initializer.h"
+#include "dsm/tracking/rolling_shutter.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -68,6 +69,16 @@ void System::StartMap(const InitResult& init) {
   stats_.initialization = init.planar ? "planar" : "two-view";
   PendingFrame& first = pending_.front();
   PendingFrame& last = pending_.back();
+  if (options_.line_delay_s > 0.0 && last.t_ns > first.t_ns) {
+    // A rolling shutter: the two keyframes are resampled as global shutters at their timestamps
+    // would have seen them, the camera turning at the rate between them.
+    const ReadoutTurn turn{options_.line_delay_s, init.current_from_reference.So3().Log() /
+                                                      ((last.t_ns - first.t_ns) * 1e-9)};
+    for (PendingFrame* p : {&first, &last})
+      p->pyramid = std::make_shared<const ImagePyramid>(
+          RectifyRotation(p->pyramid->ValuesLevel0(), camera_, turn.line_delay_s, turn.angular_velocity),
+          options_.pyramid_levels, /*gradients=*/false);
+  }
   CreateKeyframe(first.index, first.t_ns, std::move(first.pyramid), first.exposure, SE3d(), AffineBrightness{});
   CreateKeyframe(last.index, last.t_ns, std::move(last.pyramid), last.exposure, init.current_from_reference,
                  AffineBrightness{});
