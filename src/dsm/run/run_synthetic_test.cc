@@ -186,7 +186,7 @@ TEST(Run, HandHeldStartTracksTheFramesBeforeTheMap) {
 // `handheld` (a phone turned about at up to ~90 deg/s) at 320 x 240 and 30 Hz with a rolling
 // shutter of 60 us per row (14 ms of readout): with the calibration's line delay each frame is
 // tracked and mapped as the global shutter at its timestamp would have seen it (seed 1: keyframe
-// ATE 5.2 mm); taken for a global shutter, the rows' shifts bend the map (91 mm).
+// ATE 3.7 mm); taken for a global shutter, the rows' shifts bend the map (91 mm).
 TEST(Run, RollingShutterIsModelled) {
   synth::SynthOptions synth;
   synth.scene = "handheld";
