@@ -21,6 +21,7 @@ Command AddRun(CLI::App& app) {
     bool view = false;
     int start = 0, end = -1, workers = 0;
     std::optional<int> nt, nc, pba_levels;
+    std::optional<double> line_delay_us;
     bool print_config = false;
     bool quiet = false, no_map = false, no_report = false, global_ba = false, no_loop_closure = false, truth_ba = false, sequential = false,
          realtime = false, localize = false;
@@ -77,6 +78,9 @@ Command AddRun(CLI::App& app) {
   app.add_option("--view-wait", a->view_wait,
                  "--view: before the first frame, wait up to this many seconds for a browser to connect, so "
                  "that it sees the whole run (default 0: no wait)");
+  app.add_option("--line-delay-us", a->line_delay_us,
+                 "Rolling shutter: microseconds between two rows' exposures, instead of what the calibration "
+                 "says (camera.yaml line_delay_us; none for EuRoC, TUM or a video); 0: a global shutter");
   app.add_flag("--global-ba", a->global_ba, "Bundle-adjust all keyframes and points once after the last frame");
   app.add_flag("--no-loop-closure", a->no_loop_closure,
                "Do not recognise places seen before to close loops (loop_closure.enabled false): the map joins them only "
@@ -144,7 +148,16 @@ Command AddRun(CLI::App& app) {
     options.pace = a->sequential ? Pace::kSequential : a->realtime ? Pace::kRealtime : Pace::kFree;
     // The per-keyframe diagnostics read the map after each keyframe: only sequential allows that.
     if (!options.debug_dir.empty() && !a->realtime) options.pace = Pace::kSequential;
-    const Dataset dataset = OpenInput(a->dataset, a->gt, a->video);
+    Dataset dataset = OpenInput(a->dataset, a->gt, a->video);
+    if (a->line_delay_us) {
+      const int rows = dataset.camera.height;
+      // The readout fits in the frame interval (taken from the first two frames).
+      const double interval_us = dataset.size() >= 2 ? (dataset.frames[1].t_ns - dataset.frames[0].t_ns) * 1e-3 : 1e6;
+      if (!(*a->line_delay_us >= 0.0 && *a->line_delay_us * rows <= interval_us))
+        throw InputError("--line-delay-us must be within 0 and the frame interval over the " + std::to_string(rows) +
+                         " rows (" + std::to_string(interval_us / rows) + " us)");
+      dataset.line_delay_us = *a->line_delay_us;
+    }
     CatchInterrupts();
     const RunSummary summary = RunDataset(dataset, options, a->out);
     std::printf("%s%s\n", summary.line.c_str(), summary.interrupt_signal ? " (interrupted)" : "");

@@ -11,8 +11,9 @@
 #   section: the section of docs/results.md the table is written to (scripts/results.sh; default
 #            ablation); `accuracy`, the README's results table, is
 #            --configs "dsm sw" --seeds "1 2 3 4 5" --section accuracy
-#   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan block, each also as
-#            <scene>-noisy (rendered with image noise of 6 grey levels instead of 1), and the
+#   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan block twins
+#            handheld, each also as <scene>-noisy (rendered with image noise of 6 grey levels
+#            instead of 1) and <scene>-rs (at 30 Hz with a rolling shutter of 30 us per row), and the
 #            shared euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
 #   configs: dsm (defaults), sw (DSM-SW: N_t + N_c temporal keyframes), sw-short (DSM-SW with N_t
 #            alone, as before it had the window's whole size), nc3, nc1, nt3, nt6, levels1, levels3,
@@ -30,7 +31,8 @@
 #            adjustments at 10, 20 and 40 keyframes: system.young_map_ba_last 0), loop-ba (the keyframes of a loop adjusted when
 #            the covisible keyframes reach 20 keyframes back: system.loop_ba_min_gap 20), no-culling
 #            (every keyframe stays: system.keyframe_culling false), no-loop-closure (places seen before
-#            are not recognised: --no-loop-closure)
+#            are not recognised: --no-loop-closure), global-shutter (a rolling shutter's frames taken
+#            for a global shutter's: --line-delay-us 0)
 #   seeds:   each synthetic scene is rendered once per seed (textures and hand-held jitter); with
 #            more than one seed a row gives the median over the seeds, the ATE also as
 #            "median [min, max]", and a last column lists the ATE of every seed. Single runs of a
@@ -101,6 +103,7 @@ args_for() {
     move-covisible | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | no-texture-loss | free-sigma | newest-model | no-young-ba | loop-ba | no-culling) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     no-loop-closure) echo "--no-loop-closure" ;;
+    global-shutter) echo "--line-delay-us 0" ;;
     *) echo "ablation: unknown config '$1'" >&2; exit 2 ;;
   esac
 }
@@ -120,13 +123,14 @@ runs_for() {
     done
     return
   fi
-  local scene="$1" noise=1
+  local scene="$1" noise=1 shutter=()
   if [[ "$1" == *-noisy ]]; then scene="${1%-noisy}" noise=6; fi
+  if [[ "$1" == *-rs ]]; then scene="${1%-rs}" shutter=(--rate 30 --rolling-shutter 30); fi
   for seed in $SEEDS; do
     local name="$1"
     [ "$seed" = 1 ] || name="$1_seed$seed"
     [ -d "$WORK/seq_$name" ] ||
-      "$DSM" synth --scene "$scene" --seed "$seed" --noise "$noise" --out "$WORK/seq_$name" >/dev/null
+      "$DSM" synth --scene "$scene" --seed "$seed" --noise "$noise" "${shutter[@]}" --out "$WORK/seq_$name" >/dev/null
     echo "$name $WORK/seq_$name"
   done
 }

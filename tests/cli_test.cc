@@ -404,6 +404,7 @@ TEST(Cli, BadInputIsAClearErrorWithExitCode2) {
        "bad.voc: not a dsm vocabulary file"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 500 --out " + (dir / "o").string(), "--start"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --gt-frame imu", "--gt-frame"},
+      {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --line-delay-us 200", "--line-delay-us must be"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --view-wait 5", "--view-wait needs --view"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --view --view-wait -1", "--view-wait must be"},
       {"run " + (SharedDataDir() / "euroc_mh01_shake").string() + " --start 339 --out " + (dir / "o").string(),
