@@ -79,8 +79,9 @@ TEST_P(EveryScene, WarpingWithTrueDepthAndPosesReproducesTheFrame) {
   for (auto [a, b] : {std::pair<size_t, size_t>{0, 4}, {100, 103}, {200, 210}}) {
     // At most 0.3 m and 20 degrees apart: walking down a corridor, or turning to see a wall
     // obliquely, the footprint of the band-limited textures changes, and with it what a pixel sees.
+    const SE3d world_from_a = seq.world_from_cam[a];  // A lambda does not capture a structured binding.
     const auto apart = [&](size_t j) {
-      const SE3d a_from_j = seq.world_from_cam[a].Inverse() * seq.world_from_cam[j];
+      const SE3d a_from_j = world_from_a.Inverse() * seq.world_from_cam[j];
       return a_from_j.Translation().norm() > 0.3 || a_from_j.So3().Log().norm() > 20.0 * M_PI / 180.0;
     };
     while (b > a + 1 && apart(b)) --b;
