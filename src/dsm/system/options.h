@@ -64,9 +64,10 @@ struct LoopClosureOptions {
 struct SystemOptions {
   MapMode mode = MapMode::kFull;
   // The camera's rolling shutter: seconds between two rows' exposures, from its calibration
-  // (line_delay_us); 0: a global shutter. Each frame is resampled as a global shutter at its
-  // timestamp would have seen it, turning as the camera's last motion predicts
-  // (tracking/rolling_shutter.h), before it is tracked and mapped.
+  // (line_delay_us); 0: a global shutter. Tracking predicts each point where the rolling shutter
+  // saw it (ReadoutTurn), and the mapping side resamples each frame as a global shutter at its
+  // timestamp would have seen it (tracking/rolling_shutter.h), the camera turning as over the
+  // last frame step.
   double line_delay_s = 0.0;
   // Mapping on a thread of its own beside tracking (system.h); false: every keyframe is mapped
   // before the next frame is tracked, deterministically.
