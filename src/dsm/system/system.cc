@@ -318,12 +318,7 @@ void System::RunJob(const MappingJob& job) {
   // A rolling shutter's frame is traced and mapped as the global shutter at its timestamp
   // would have seen it.
   const std::shared_ptr<const ImagePyramid> pyramid =
-      job.readout.line_delay_s > 0.0
-          ? std::make_shared<const ImagePyramid>(RectifyRotation(job.pyramid->ValuesLevel0(), camera_,
-                                                                 job.readout.line_delay_s,
-                                                                 job.readout.angular_velocity),
-                                                 options_.pyramid_levels, /*gradients=*/false)
-          : job.pyramid;
+      job.readout.line_delay_s > 0.0 ? GlobalShutterPyramid(*job.pyramid, job.readout) : job.pyramid;
   TraceCandidates(*pyramid, job.reference, job.frame_from_reference, job.alpha, job.beta, job.exposure);
   stats_.tracing_ms.push_back(MsSince(t0));
   if (job.relocalisations > relocalisations_mapped_) {
@@ -404,6 +399,12 @@ void System::Finish() {
 ReadoutTurn System::Readout() const {
   if (!(options_.line_delay_s > 0.0 && frame_interval_ns_ > 0.0 && HasTrustedFrame())) return {};
   return {options_.line_delay_s, track_.velocity.So3().Log() / (frame_interval_ns_ * 1e-9)};
+}
+
+std::shared_ptr<const ImagePyramid> System::GlobalShutterPyramid(const ImagePyramid& pyramid,
+                                                                 const ReadoutTurn& turn) const {
+  return std::make_shared<const ImagePyramid>(RectifyRotation(pyramid.ValuesLevel0(), camera_, turn),
+                                              options_.pyramid_levels, /*gradients=*/false);
 }
 
 TrackResult System::TrackFrame(int index, const ImagePyramid& pyramid, double exposure) const {

@@ -326,6 +326,9 @@ class System {
   // The camera's turn through a rolling shutter's readout, as over the last frame step (none with
   // a global shutter or before a frame is trusted).
   ReadoutTurn Readout() const;
+  // A frame's pyramid as a global shutter at its timestamp would have seen it, the camera turning
+  // by `turn` through the readout (tracking/rolling_shutter.h); without gradients.
+  std::shared_ptr<const ImagePyramid> GlobalShutterPyramid(const ImagePyramid& pyramid, const ReadoutTurn& turn) const;
   // The frame's pose and brightness relative to the reference become the last trusted ones; the
   // velocity is the step from the last trusted frame per frame, or `velocity` when given.
   void CommitPose(int index, const TrackResult& result, double exposure, std::optional<SE3d> velocity);

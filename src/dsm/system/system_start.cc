@@ -13,7 +13,6 @@
 #include "dsm/system/system.h"
 #include "dsm/system/system_internal.h"
 #include "dsm/tracking/initializer.h"
-#include "dsm/tracking/rolling_shutter.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -74,10 +73,7 @@ void System::StartMap(const InitResult& init) {
     // would have seen them, the camera turning at the rate between them.
     const ReadoutTurn turn{options_.line_delay_s, init.current_from_reference.So3().Log() /
                                                       ((last.t_ns - first.t_ns) * 1e-9)};
-    for (PendingFrame* p : {&first, &last})
-      p->pyramid = std::make_shared<const ImagePyramid>(
-          RectifyRotation(p->pyramid->ValuesLevel0(), camera_, turn.line_delay_s, turn.angular_velocity),
-          options_.pyramid_levels, /*gradients=*/false);
+    for (PendingFrame* p : {&first, &last}) p->pyramid = GlobalShutterPyramid(*p->pyramid, turn);
   }
   CreateKeyframe(first.index, first.t_ns, std::move(first.pyramid), first.exposure, SE3d(), AffineBrightness{});
   CreateKeyframe(last.index, last.t_ns, std::move(last.pyramid), last.exposure, init.current_from_reference,

@@ -32,6 +32,7 @@
 #include "dsm/lie/se3.h"
 #include "dsm/photometric/residual.h"
 #include "dsm/photometric/robust.h"
+#include "dsm/tracking/rolling_shutter.h"
 
 namespace dsm {
 
@@ -92,14 +93,6 @@ struct TrackResult {
   double visibility = 0.0;        // s_u = mean min(rho_kf / rho_frame, 1), 0 out of view (paper VI-B).
   int iterations = 0;
   bool brightness_held = false;   // Tracked again with the brightness held (see FrameTracker::Track).
-};
-
-// A rolling shutter's turn during the readout (rolling_shutter.h): level-0 row v of the frame is
-// seen from the camera turned by Exp(w v delta) from its pose at the timestamp (first-order in
-// the turn, translation during the readout left out). Zero delay: a global shutter.
-struct ReadoutTurn {
-  double line_delay_s = 0.0;
-  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  // rad/s, camera frame.
 };
 
 class FrameTracker {

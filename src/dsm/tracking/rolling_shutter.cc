@@ -5,7 +5,9 @@
 #include <cmath>
 
 #include "dsm/lie/so3.h"
-#if defined(__x86_64__)
+#include "dsm/util/simd.h"
+
+#if DSM_X86_SIMD
 #include <immintrin.h>
 #endif
 
@@ -31,7 +33,7 @@ void SampleAlong(const float* image, int stride, float x0, float sx, float y0, f
   }
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(DSM_NO_SIMD_CLONES)
+#if DSM_X86_SIMD
 // The same, 8 pixels at a time with AVX2 gathers (the same operations in the same order: the
 // same values); the rest as above.
 __attribute__((target("avx2"))) void SampleAlongAvx2(const float* image, int stride, float x0, float sx, float y0,
@@ -66,7 +68,7 @@ bool HasAvx2() {
 
 void Sample(const float* image, int stride, float x0, float sx, float y0, float sy, float max_x, float max_y, int n,
             float* out) {
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(DSM_NO_SIMD_CLONES)
+#if DSM_X86_SIMD
   if (HasAvx2()) return SampleAlongAvx2(image, stride, x0, sx, y0, sy, max_x, max_y, n, out);
 #endif
   SampleAlong(image, stride, x0, sx, y0, sy, max_x, max_y, 0, n, out);
@@ -74,8 +76,9 @@ void Sample(const float* image, int stride, float x0, float sx, float y0, float 
 
 }  // namespace
 
-Image<float> RectifyRotation(const Image<float>& image, const PinholeCamera& camera, double line_delay_s,
-                             const Eigen::Vector3d& angular_velocity) {
+Image<float> RectifyRotation(const Image<float>& image, const PinholeCamera& camera, const ReadoutTurn& turn) {
+  const double line_delay_s = turn.line_delay_s;
+  const Eigen::Vector3d& angular_velocity = turn.angular_velocity;
   const int w = image.width(), h = image.height();
   Image<float> out(w, h);
   const Eigen::Matrix3d K = camera.K(), K_inv = K.inverse();

@@ -26,7 +26,13 @@
 
 namespace dsm {
 
-Image<float> RectifyRotation(const Image<float>& image, const PinholeCamera& camera, double line_delay_s,
-                             const Eigen::Vector3d& angular_velocity);
+// The camera's turn through a rolling shutter's readout: level-0 row v of a frame is seen from the
+// camera turned by Exp(w v delta) from its pose at the timestamp. Zero delay: a global shutter.
+struct ReadoutTurn {
+  double line_delay_s = 0.0;
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  // w, rad/s, camera frame.
+};
+
+Image<float> RectifyRotation(const Image<float>& image, const PinholeCamera& camera, const ReadoutTurn& turn);
 
 }  // namespace dsm

@@ -30,7 +30,7 @@ const Fixture& GetFixture() {
 void BM_RectifyRotation(benchmark::State& state) {
   const Fixture& f = GetFixture();
   const Eigen::Vector3d w = (M_PI / 2) * Eigen::Vector3d(0.2, 0.9, 0.4).normalized();
-  for (auto _ : state) benchmark::DoNotOptimize(RectifyRotation(f.image, f.camera, 30e-6, w));
+  for (auto _ : state) benchmark::DoNotOptimize(RectifyRotation(f.image, f.camera, {30e-6, w}));
 }
 BENCHMARK(BM_RectifyRotation)->Unit(benchmark::kMicrosecond);
 

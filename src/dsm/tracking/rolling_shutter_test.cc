@@ -36,14 +36,14 @@ TEST(RectifyRotation, UndoesARollingShutterWhileTheCameraTurns) {
   Image<float> global, rolling;
   synth::RenderFrame(seq.scene, seq.camera, world_from_t0, &global, nullptr);
   synth::RenderRollingShutterFrame(seq.scene, seq.camera, rows, &rolling, nullptr);
-  const Image<float> rectified = RectifyRotation(rolling, seq.camera, delta, w);
+  const Image<float> rectified = RectifyRotation(rolling, seq.camera, {delta, w});
   // The lowest rows moved by ~9 px: far off before, a resampling's blur after. The border strip
   // the turn brought in from outside the image is left out.
   const double before = MeanDifference(rolling, global, 12), after = MeanDifference(rectified, global, 12);
   EXPECT_GT(before, 0.05);
   EXPECT_LT(after, 0.15 * before);
   // Nothing turns: the image comes back as it was.
-  const Image<float> still = RectifyRotation(rolling, seq.camera, delta, Eigen::Vector3d::Zero());
+  const Image<float> still = RectifyRotation(rolling, seq.camera, {delta, Eigen::Vector3d::Zero()});
   EXPECT_LT(MeanDifference(still, rolling, 0), 1e-6);
 }
 

@@ -12,8 +12,12 @@
 // option DSM_SIMD_CLONES=OFF (one baseline build, e.g. to compare against).
 #pragma once
 
+// DSM_X86_SIMD is 1 where the clones are made: code with hand-written AVX2 (target("avx2"),
+// picked at run time by __builtin_cpu_supports) keeps to the same builds.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(DSM_NO_SIMD_CLONES)
+#define DSM_X86_SIMD 1
 #define DSM_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
 #else
+#define DSM_X86_SIMD 0
 #define DSM_SIMD_CLONES
 #endif
