@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "apps/commands.h"
+#include "dsm/io/calibration_io.h"
 #include "dsm/io/options_io.h"
 #include "dsm/run/interrupt.h"
 #include "dsm/run/run.h"
@@ -153,7 +154,7 @@ Command AddRun(CLI::App& app) {
       const int rows = dataset.camera.height;
       // The readout fits in the frame interval (taken from the first two frames).
       const double interval_us = dataset.size() >= 2 ? (dataset.frames[1].t_ns - dataset.frames[0].t_ns) * 1e-3 : 1e6;
-      if (!(*a->line_delay_us >= 0.0 && *a->line_delay_us * rows <= interval_us))
+      if (!ReadoutFits(*a->line_delay_us, rows, interval_us))
         throw InputError("--line-delay-us must be within 0 and the frame interval over the " + std::to_string(rows) +
                          " rows (" + std::to_string(interval_us / rows) + " us)");
       dataset.line_delay_us = *a->line_delay_us;

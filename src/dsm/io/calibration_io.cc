@@ -45,7 +45,7 @@ CameraYaml ReadCameraYaml(const fs::path& path) {
   }
   if (node["line_delay_us"]) {
     out.line_delay_us = Get<double>(node, "line_delay_us", path);
-    if (!(out.line_delay_us >= 0 && out.line_delay_us * cam.height <= 1e6 / out.rate_hz))
+    if (!ReadoutFits(out.line_delay_us, cam.height, 1e6 / out.rate_hz))
       throw InputError(path.string() + ": key 'line_delay_us' must be within 0 and the frame interval over the rows");
   }
   cam.Validate(path.string());

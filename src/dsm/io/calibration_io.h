@@ -28,6 +28,11 @@ struct CameraYaml {
   // line_delay_us; 0, the default: a global shutter). The frame's timestamp is its first row's.
   double line_delay_us = 0.0;
 };
+// Whether a rolling shutter's readout, `rows` rows `line_delay_us` apart, fits within one frame
+// interval (and the delay is not negative).
+inline bool ReadoutFits(double line_delay_us, int rows, double frame_interval_us) {
+  return line_delay_us >= 0.0 && line_delay_us * rows <= frame_interval_us;
+}
 CameraYaml ReadCameraYaml(const std::filesystem::path& path);
 void WriteCameraYaml(const std::filesystem::path& path, const CameraYaml& camera);
 

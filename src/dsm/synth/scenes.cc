@@ -6,6 +6,7 @@
 #include <random>
 
 #include "dsm/image/defects.h"
+#include "dsm/io/calibration_io.h"
 #include "dsm/util/check.h"
 
 namespace dsm::synth {
@@ -246,7 +247,7 @@ void SynthOptions::Validate() const {
   if (!(vignette >= 0 && vignette <= 0.8)) throw InputError("--vignette must be within 0..0.8");
   if (!(blur_sigma >= 0 && blur_sigma <= 10)) throw InputError("--blur must be within 0..10 pixels");
   // The rows are read out within the frame interval.
-  if (!(line_delay_us >= 0 && line_delay_us * height <= 1e6 / rate_hz))
+  if (!ReadoutFits(line_delay_us, height, 1e6 / rate_hz))
     throw InputError("--rolling-shutter must be within 0.." + std::to_string(1e6 / rate_hz / height) +
                      " us per row (the readout of all rows within one frame interval)");
   ParseDefects(defects);
