@@ -81,13 +81,19 @@ Image<float> GaussianBlur(const Image<float>& in, double sigma) {
 
 }  // namespace
 
-void RenderFrame(const Scene& scene, const PinholeCamera& camera, const SE3d& world_from_cam, Image<float>* albedo,
-                 Image<float>* depth, bool parallel) {
+namespace {
+
+// The frame in bands of `band_rows` rows, band b (rows from v0 = b * band_rows) seen from
+// pose_of(v0).
+template <typename PoseOf>
+void RenderInBands(const Scene& scene, const PinholeCamera& camera, int band_rows, const PoseOf& pose_of,
+                   Image<float>* albedo, Image<float>* depth, bool parallel) {
   *albedo = Image<float>(camera.width, camera.height);
   if (depth) *depth = Image<float>(camera.width, camera.height);
-  const int bands = (camera.height + kTile - 1) / kTile;
+  const int bands = (camera.height + band_rows - 1) / band_rows;
   const auto band = [&](int b) {
-    RenderRows(scene, camera, world_from_cam, b * kTile, std::min(camera.height, (b + 1) * kTile), albedo, depth);
+    const int v0 = b * band_rows;
+    RenderRows(scene, camera, pose_of(v0), v0, std::min(camera.height, v0 + band_rows), albedo, depth);
   };
   if (parallel) {
     tbb::parallel_for(0, bands, band);
@@ -96,17 +102,18 @@ void RenderFrame(const Scene& scene, const PinholeCamera& camera, const SE3d& wo
   }
 }
 
+}  // namespace
+
+void RenderFrame(const Scene& scene, const PinholeCamera& camera, const SE3d& world_from_cam, Image<float>* albedo,
+                 Image<float>* depth, bool parallel) {
+  RenderInBands(scene, camera, kTile, [&](int) -> const SE3d& { return world_from_cam; }, albedo, depth, parallel);
+}
+
 void RenderRollingShutterFrame(const Scene& scene, const PinholeCamera& camera,
                                const std::vector<SE3d>& row_world_from_cam, Image<float>* albedo, Image<float>* depth,
                                bool parallel) {
-  *albedo = Image<float>(camera.width, camera.height);
-  if (depth) *depth = Image<float>(camera.width, camera.height);
-  const auto row = [&](int v) { RenderRows(scene, camera, row_world_from_cam[v], v, v + 1, albedo, depth); };
-  if (parallel) {
-    tbb::parallel_for(0, camera.height, row);
-  } else {
-    for (int v = 0; v < camera.height; ++v) row(v);
-  }
+  RenderInBands(scene, camera, 1, [&](int v) -> const SE3d& { return row_world_from_cam[v]; }, albedo, depth,
+                parallel);
 }
 
 Image<float> MakeVignette(int width, int height, double strength) {
