@@ -42,6 +42,7 @@
 #include "dsm/lie/sim3.h"
 #include "dsm/map/stored_map.h"
 #include "dsm/mapping/map_points.h"
+#include "dsm/system/handover.h"
 #include "dsm/system/loop_state.h"
 #include "dsm/system/options.h"
 #include "dsm/system/system_stats.h"
@@ -72,16 +73,6 @@ struct FrameReport {
   // Where its wait for a keyframe being mapped ended, or would have (none before the map starts):
   // what comes after is the work a realtime wait has to leave time for (run/realtime_wait.h).
   std::optional<std::chrono::steady_clock::time_point> wait_end;
-};
-
-// The map as a viewer shows it, taken by the mapping side with a tracking reference when
-// SystemOptions::map_snapshots is set; never changed after.
-struct MapSnapshot {
-  std::vector<LivePoint> points;
-  std::vector<SE3d> world_from_cam;  // Every keyframe's, in id order ...
-  std::vector<int> keyframe_frames;  // ... and its input frame index.
-  // (keyframe, a covisible keyframe of the window it was mapped in).
-  std::vector<std::pair<int, int>> covisibility;
 };
 
 class System {
@@ -244,38 +235,6 @@ class System {
     double exposure;
     std::shared_ptr<const ImagePyramid> pyramid;
   };
-  // A tracked frame handed to the mapping side; its pose and brightness are relative to the
-  // reference keyframe it was tracked against (I_frame = e^alpha I_reference + beta).
-  struct MappingJob {
-    int index = -1;
-    int64_t t_ns = 0;
-    double exposure = 1.0;
-    std::shared_ptr<const ImagePyramid> pyramid;
-    int reference = -1;
-    SE3d frame_from_reference;
-    double alpha = 0.0, beta = 0.0;
-    int keyframe = -1;  // Its keyframe id when it becomes one.
-    ErrorModel model;   // Fitted to its tracking residuals.
-    double rmse = 0.0, inlier_ratio = 0.0;
-    int relocalisations = 0;  // Confirmed on the tracking side before this frame.
-    ReadoutTurn readout;      // A rolling shutter's turn through its readout (none: global).
-  };
-  // What tracking needs of its reference keyframe: published by the mapping side once the
-  // keyframe is mapped, never changed after.
-  struct TrackingReference {
-    int keyframe = -1;
-    std::shared_ptr<const ImagePyramid> pyramid;
-    std::vector<ReferencePoint> points;
-    // Of keyframes 0..keyframe, as the map had them then.
-    std::vector<SE3d> cam_from_world;
-    std::vector<AffineBrightness> affine;
-    std::vector<double> exposure;
-    int map_points = 0;  // Live points of the map then.
-    double texture = 0.0;  // The keyframe's (FrameSignature::texture).
-    double scale = 1.0;    // The keyframe's keyframe_scale_ then.
-    std::shared_ptr<const MapSnapshot> snapshot;  // With SystemOptions::map_snapshots.
-  };
-
   // The frame Process works on: what it was given, what the quality test found, what it reports.
   struct FrameWork {
     int index = -1;

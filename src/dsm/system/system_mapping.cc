@@ -491,7 +491,7 @@ void System::PublishReference(int kf, std::vector<ReferencePoint> points) {
   published_ = std::move(ref);
 }
 
-std::shared_ptr<const System::TrackingReference> System::MakeReference(
+std::shared_ptr<const TrackingReference> System::MakeReference(
     int kf, std::vector<ReferencePoint> points, std::shared_ptr<const ImagePyramid> pyramid) const {
   auto ref = std::make_shared<TrackingReference>();
   ref->points = std::move(points);
