@@ -92,30 +92,12 @@ struct Projection {
 };
 
 // Pixels [begin, end): p = R q + t rho (q_z = 1), u = pi(p); out-of-view pixels go to (lo, lo).
-DSM_SIMD_CLONES void ProjectPixels(const Projection& pr, const float* qx, const float* qy, const float* rho,
-                                   size_t begin, size_t end, float* u, float* v, float* valid) {
-  const float R00 = pr.R(0, 0), R01 = pr.R(0, 1), R02 = pr.R(0, 2), R10 = pr.R(1, 0), R11 = pr.R(1, 1),
-              R12 = pr.R(1, 2), R20 = pr.R(2, 0), R21 = pr.R(2, 1), R22 = pr.R(2, 2);
-  const float tx = pr.t.x(), ty = pr.t.y(), tz = pr.t.z();
-#pragma omp simd
-  for (size_t i = begin; i < end; ++i) {
-    const float px = R00 * qx[i] + R01 * qy[i] + R02 + tx * rho[i];
-    const float py = R10 * qx[i] + R11 * qy[i] + R12 + ty * rho[i];
-    const float pz = R20 * qx[i] + R21 * qy[i] + R22 + tz * rho[i];
-    const float iz = 1.f / pz;
-    const float ui = pr.fx * px * iz + pr.cx, vi = pr.fy * py * iz + pr.cy;
-    // Bitwise: a short-circuit && is control flow, which keeps the loop from vectorising.
-    const bool ok = (pz > 1e-6f) & (ui >= pr.lo) & (vi >= pr.lo) & (ui < pr.x_hi) & (vi < pr.y_hi);
-    valid[i] = ok ? 1.f : 0.f;
-    u[i] = ok ? ui : pr.lo;
-    v[i] = ok ? vi : pr.lo;
-  }
-}
-
-// ProjectPixels with a rolling shutter: p as there, moved by the turn at the row it lands on,
-// p + (v a + b) x p, and projected again.
-DSM_SIMD_CLONES void ProjectPixelsRolling(const Projection& pr, const float* qx, const float* qy, const float* rho,
-                                          size_t begin, size_t end, float* u, float* v, float* valid) {
+// kRolling: p is moved by the turn at the row it lands on, p + (v a + b) x p, and projected again.
+// Inlined into each clone below, so that each is compiled for its target.
+template <bool kRolling>
+[[gnu::always_inline]] inline void ProjectPixelsAt(const Projection& pr, const float* qx, const float* qy,
+                                                  const float* rho, size_t begin, size_t end, float* u, float* v,
+                                                  float* valid) {
   const float R00 = pr.R(0, 0), R01 = pr.R(0, 1), R02 = pr.R(0, 2), R10 = pr.R(1, 0), R11 = pr.R(1, 1),
               R12 = pr.R(1, 2), R20 = pr.R(2, 0), R21 = pr.R(2, 1), R22 = pr.R(2, 2);
   const float tx = pr.t.x(), ty = pr.t.y(), tz = pr.t.z();
@@ -125,16 +107,30 @@ DSM_SIMD_CLONES void ProjectPixelsRolling(const Projection& pr, const float* qx,
     const float px = R00 * qx[i] + R01 * qy[i] + R02 + tx * rho[i];
     const float py = R10 * qx[i] + R11 * qy[i] + R12 + ty * rho[i];
     const float pz = R20 * qx[i] + R21 * qy[i] + R22 + tz * rho[i];
-    const float row = pr.fy * py / pz + pr.cy;
-    const float wx = row * ax + bx, wy = row * ay + by, wz = row * az + bz;
-    const float sx = px + (wy * pz - wz * py), sy = py + (wz * px - wx * pz), sz = pz + (wx * py - wy * px);
+    float sx = px, sy = py, sz = pz;
+    if constexpr (kRolling) {
+      const float row = pr.fy * py / pz + pr.cy;
+      const float wx = row * ax + bx, wy = row * ay + by, wz = row * az + bz;
+      sx = px + (wy * pz - wz * py), sy = py + (wz * px - wx * pz), sz = pz + (wx * py - wy * px);
+    }
     const float iz = 1.f / sz;
     const float ui = pr.fx * sx * iz + pr.cx, vi = pr.fy * sy * iz + pr.cy;
+    // Bitwise: a short-circuit && is control flow, which keeps the loop from vectorising.
     const bool ok = (pz > 1e-6f) & (sz > 1e-6f) & (ui >= pr.lo) & (vi >= pr.lo) & (ui < pr.x_hi) & (vi < pr.y_hi);
     valid[i] = ok ? 1.f : 0.f;
     u[i] = ok ? ui : pr.lo;
     v[i] = ok ? vi : pr.lo;
   }
+}
+
+DSM_SIMD_CLONES void ProjectPixels(const Projection& pr, const float* qx, const float* qy, const float* rho,
+                                   size_t begin, size_t end, float* u, float* v, float* valid) {
+  ProjectPixelsAt<false>(pr, qx, qy, rho, begin, end, u, v, valid);
+}
+
+DSM_SIMD_CLONES void ProjectPixelsRolling(const Projection& pr, const float* qx, const float* qy, const float* rho,
+                                          size_t begin, size_t end, float* u, float* v, float* valid) {
+  ProjectPixelsAt<true>(pr, qx, qy, rho, begin, end, u, v, valid);
 }
 
 // r = I_f(u) - e^alpha I_r - beta at the projected pixels (0 where out of view).
