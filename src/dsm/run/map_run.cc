@@ -175,6 +175,10 @@ nlohmann::json LoopsClosedJson(const SystemStats& s) {
                      {"translation_share", l.translation_share},
                      {"rotation_deg", l.rotation_deg},
                      {"scale", l.scale},
+                     {"residual_ratio", l.residual_ratio},
+                     {"shift_px", l.shift_px},
+                     {"correction_share", l.correction_share},
+                     {"margin", l.margin},
                      {"ms", l.ms}});
   return loops;
 }

@@ -27,6 +27,9 @@ struct LoopMatch {
   double alpha = 0.0, beta = 0.0;
   int inliers = 0;
   double shift_px = 0.0;  // Median move of the candidate's points in kf that the loop makes.
+  double depth = 0.0;     // Mean depth of the candidate's points (their scale).
+  double residual_ratio = 0.0;  // The direct alignment's median residual over kf's error scale.
+  double margin = 0.0;  // The map as it is over the loop in median residual (0: no other fit).
 };
 
 // Keyframes merged from another map, ids first .. first + count - 1, with the match that joined

@@ -471,8 +471,8 @@ class System {
   // window re-observes its points (a merged keyframe among the covisible ones); true when it ran.
   bool AdjustMerge(int newest);
   // The pose and brightness graphs with the loop edge; every keyframe and its points moved
-  // (stats_.loops_closed).
-  void CorrectLoop(int kf, const LoopMatch& match);
+  // (stats_.loops_closed). `shared`: the observations each pair of live keyframes (i < j) shares.
+  void CorrectLoop(int kf, const LoopMatch& match, const std::map<std::pair<int, int>, int>& shared);
   void SelectCandidates(int kf);
   void PublishTrackingReference();
   // Threaded: a newer reference was published than the one the tracking side holds.

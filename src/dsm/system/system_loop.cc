@@ -14,11 +14,18 @@
 //    depths from the map points near each keypoint in both views; RANSAC on a Sim(3) between the
 //    two cameras (geometry/sim3_ransac.h) needs min_inliers, then the keyframe's image is aligned
 //    directly against the candidate's points from that pose (the frame tracker, over the whole
-//    pyramid) and must pass the quality test's inlier share and stay near the feature pose. The
-//    keyframe may not move by more than a tenth of the path since the candidate: drift is a few
-//    percent of the path, and a larger jump is a place that looks the same (perceptual aliasing).
-//    Nor is a loop closed whose correction moves the candidate's points in the keyframe by less
-//    than kReobservePx: re-observation joins the two passes from there by itself.
+//    pyramid) and must pass the quality test's inlier share, fit the candidate's points with a
+//    median residual within kMaxResidualToScale of the keyframe's own error scale, and stay near
+//    the feature pose. The map as it is is the other hypothesis: the keyframe is aligned with the
+//    candidate's points from the pose the map gives them too, and where that lands elsewhere, the
+//    loop must fit clearly better (kClearlyBetter). The correction (the keyframe's move plus its
+//    turn at the scene's depth) may not exceed a tenth of the path along the map's links since
+//    the candidate (LinkedPath: consecutive keyframes, and keyframes that share observations, the
+//    newest left out): drift is a few percent of the path it grew along, and a camera that came
+//    back to a place and re-observed it drifted only along that short way; a larger jump is a
+//    place that looks the same (perceptual aliasing). Nor is a loop closed whose correction moves
+//    the candidate's points in the keyframe by less than kReobservePx: re-observation joins the
+//    two passes from there by itself.
 // 3. Correction. A Sim(3) pose graph (optimization/pose_graph.h) over every keyframe: edges
 //    between consecutive keyframes and between keyframes that share at least kMinSharedPoints
 //    observations, measured at the poses before, and the loop edge k_from_c; the first keyframe
@@ -30,6 +37,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "dsm/geometry/sim3_ransac.h"
@@ -51,8 +59,11 @@ constexpr double kReobservePx = 4.0;     // A loop this near is left to re-obser
 constexpr int kLoopGap = 10;            // Keyframes after a closure before the next one.
 constexpr double kLoopWeight = 10.0;     // Of the loop's pose-graph edges against the map's.
 constexpr int kMinSharedPoints = 50;     // Observations that make a pose-graph edge between two keyframes.
+constexpr int kLinkWindows = 8;          // Windows of the newest keyframes whose links bound no loop.
 constexpr double kMaxRefineDeg = 5.0;    // The direct alignment stays this near the feature pose ...
 constexpr double kMaxRefineStep = 0.2;   // ... and this near over the candidate's mean depth.
+constexpr double kMaxResidualToScale = 2.0;  // The alignment's median residual, of kf's error scale.
+constexpr double kClearlyBetter = 1.25;  // A loop's median residual below the map's own by this factor.
 
 // The distance the centres of keyframes `from` .. `to` travel, the retired ones left out.
 double PathBetween(const Map& map, int from, int to) {
@@ -63,6 +74,54 @@ double PathBetween(const Map& map, int from, int to) {
     prev = k;
   }
   return path;
+}
+
+// Observations shared by each pair of live keyframes (i < j): points hosted by one with an inlier
+// observation in the other.
+std::map<std::pair<int, int>, int> SharedObservations(const Map& map) {
+  std::map<std::pair<int, int>, int> shared;
+  for (int pid = 0; pid < map.NumPoints(); ++pid) {
+    const Point& p = map.point(pid);
+    if (p.removed) continue;
+    for (const Observation& o : p.observations)
+      if (!o.outlier && !map.keyframe(o.target).retired) ++shared[{std::min(p.host, o.target), std::max(p.host, o.target)}];
+  }
+  return shared;
+}
+
+// The shortest path between keyframes `from` and `to` along the links that placed them: consecutive
+// live keyframes, and pairs older than `settled` sharing at least kMinSharedPoints observations,
+// each link as long as the distance between the two centres (Dijkstra). Drift grows along these
+// links, so a camera that came back to a place and re-observed it has a short path to it however
+// long it walked since. The links of the keyframes mapped since the camera may have come back are
+// left out (a place is recognised up to several windows after the return): re-observation may
+// have joined them to the place being judged where the drift had them.
+double LinkedPath(const Map& map, const std::map<std::pair<int, int>, int>& shared, int from, int to, int settled) {
+  std::map<int, std::vector<int>> links;
+  int prev = -1;
+  for (int k = 0; k < map.NumKeyframes(); ++k) {
+    if (map.keyframe(k).retired) continue;
+    if (prev >= 0) links[prev].push_back(k), links[k].push_back(prev);
+    prev = k;
+  }
+  for (const auto& [pair, count] : shared)
+    if (count >= kMinSharedPoints && pair.second < settled) links[pair.first].push_back(pair.second), links[pair.second].push_back(pair.first);
+  std::map<int, double> dist{{from, 0.0}};
+  std::set<std::pair<double, int>> open{{0.0, from}};
+  while (!open.empty()) {
+    const auto [d, k] = *open.begin();
+    open.erase(open.begin());
+    if (k == to) return d;
+    for (int n : links[k]) {
+      const double nd = d + (map.keyframe(n).Centre() - map.keyframe(k).Centre()).norm();
+      const auto it = dist.find(n);
+      if (it != dist.end() && it->second <= nd) continue;
+      if (it != dist.end()) open.erase({it->second, n});
+      dist[n] = nd;
+      open.insert({nd, n});
+    }
+  }
+  return PathBetween(map, from, to);
 }
 
 }  // namespace
@@ -125,19 +184,34 @@ bool System::DetectAndCloseLoop(int kf) {
     return std::any_of(stats_.loops_closed.begin(), stats_.loops_closed.end(),
                        [&](const SystemStats::LoopClosure& l) { return InSamePlace(c, l.candidate); });
   });
+  // The observations each pair of keyframes shares: for the drift bound and the pose graph, counted
+  // once the first candidate is verified (the map does not change until the loop is corrected).
+  std::optional<std::map<std::pair<int, int>, int>> shared;
   for (int c : to_verify) {
     LoopMatch match;
     if (!VerifyLoop(kf, *this, c, &match)) continue;
+    if (!shared) shared = SharedObservations(map_);
     // How far the loop would move the keyframe, as a share of the path since the candidate: drift
     // of a few percent is closed; a place tens of percent of the path away is another place that
     // looks the same (a twin room, the next floor of a building), whatever the views say.
-    const Eigen::Vector3d moved_to =
-        (match.k_from_c * Sim3d(map_.keyframe(c).cam_from_world)).Inverse().Translation();
-    if ((moved_to - map_.keyframe(kf).Centre()).norm() > kMaxCorrectionShare * PathBetween(map_, c, kf)) continue;
+    // The path is the one the map's links give (LinkedPath): a place re-observed since has drifted
+    // only along the links that joined it. The move counts the turn too, as the distance it moves
+    // the scene at its depth.
+    const Sim3d moved = match.k_from_c * Sim3d(map_.keyframe(c).cam_from_world);
+    const SE3d& now = map_.keyframe(kf).cam_from_world;
+    const double move = (moved.Inverse().Translation() - map_.keyframe(kf).Centre()).norm() +
+                        (moved.So3() * now.So3().Inverse()).Log().norm() * match.depth;
+    const int settled = kf - kLinkWindows * (options_.window.temporal_keyframes + options_.window.covisible_keyframes);
+    const double path = LinkedPath(map_, *shared, c, kf, settled);
+    if (move > kMaxCorrectionShare * path) continue;
     if (match.shift_px < kReobservePx) continue;
-    CorrectLoop(kf, match);
+    CorrectLoop(kf, match, *shared);
     SystemStats::LoopClosure& closed = stats_.loops_closed.back();
     closed.inliers = match.inliers;
+    closed.residual_ratio = match.residual_ratio;
+    closed.shift_px = match.shift_px;
+    closed.correction_share = move / path;
+    closed.margin = match.margin;
     closed.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     loop_.groups.clear();
     loop_.last_loop_keyframe = kf;
@@ -204,6 +278,10 @@ bool System::VerifyLoop(int kf, System& owner, int c, LoopMatch* match) {
   const TrackResult t = tracker.Track(k.Pyramid(), guess, alpha, beta);
   const SE3d change = t.frame_from_keyframe * guess.Inverse();
   if (!t.ok || t.inlier_ratio < options_.quality.min_inlier_ratio) return false;
+  // The candidate's points must fit the keyframe as well as the map's own observations in it do:
+  // an alignment that its fitted model calls all inliers at several times the keyframe's error
+  // scale is a view the candidate only resembles.
+  if (t.residual_p50 > kMaxResidualToScale * k.error_model.sigma) return false;
   if (change.So3().Log().norm() * 180.0 / M_PI > kMaxRefineDeg ||
       change.Translation().norm() * tracker.MeanIdepth() > kMaxRefineStep)
     return false;
@@ -211,14 +289,30 @@ bool System::VerifyLoop(int kf, System& owner, int c, LoopMatch* match) {
   // land within reach of the photometric alignment, re-observation joins the two passes by
   // itself, with the bundle adjustment's accuracy, and the loop is left to it.
   const SE3d k_from_c_now = k.cam_from_world * old.cam_from_world.Inverse();
-  std::vector<float> shifts;
-  for (const ReferencePoint& p : points_c) {
-    const Eigen::Vector3d x = camera_.Unproject(p.pixel.x(), p.pixel.y()) / p.idepth;
-    const Eigen::Vector3d now = k_from_c_now * x, loop = t.frame_from_keyframe * x;
-    if (now.z() <= 0.0 || loop.z() <= 0.0) continue;
-    shifts.push_back(static_cast<float>((camera_.Project(now) - camera_.Project(loop)).norm()));
+  // The median distance (px) between where the candidate's points land in kf from poses a and b.
+  const auto median_shift = [&](const SE3d& a, const SE3d& b) {
+    std::vector<float> shifts;
+    for (const ReferencePoint& p : points_c) {
+      const Eigen::Vector3d x = camera_.Unproject(p.pixel.x(), p.pixel.y()) / p.idepth;
+      const Eigen::Vector3d in_a = a * x, in_b = b * x;
+      if (in_a.z() > 0.0 && in_b.z() > 0.0)
+        shifts.push_back(static_cast<float>((camera_.Project(in_a) - camera_.Project(in_b)).norm()));
+    }
+    return shifts.empty() ? 0.0 : static_cast<double>(Median(shifts));
+  };
+  match->shift_px = median_shift(k_from_c_now, t.frame_from_keyframe);
+  // The map as it is is the other hypothesis: the keyframe aligned with the candidate's points from
+  // the pose the map gives them. Where that lands elsewhere than the loop and fits at least nearly
+  // as well, the view does not tell the two apart (a place that repeats, a wrong RANSAC pose
+  // polished by the alignment) and the map is left as it is.
+  // (Another map's poses are in another frame: there the map offers no such hypothesis.)
+  const TrackResult as_is = &owner == this ? tracker.Track(k.Pyramid(), k_from_c_now, alpha, beta) : TrackResult{};
+  if (as_is.ok && as_is.inlier_ratio >= options_.quality.min_inlier_ratio) {
+    if (median_shift(as_is.frame_from_keyframe, t.frame_from_keyframe) >= kReobservePx) {
+      if (t.residual_p50 * kClearlyBetter > as_is.residual_p50) return false;
+      match->margin = as_is.residual_p50 / t.residual_p50;
+    }
   }
-  match->shift_px = shifts.empty() ? 0.0 : Median(shifts);
   // The scale between the two: the median ratio of each inlier's depth in kf as the candidate's
   // map has it (through the aligned pose) to its depth in kf's own map. Umeyama's least squares
   // over the 3D points weighs the far ones, whose depths are the least certain, the most.
@@ -230,6 +324,8 @@ bool System::VerifyLoop(int kf, System& owner, int c, LoopMatch* match) {
   if (ratios.size() < static_cast<size_t>(options_.loop_closure.min_inliers)) return false;
   const double s = Median(ratios);
   match->candidate = c;
+  match->depth = 1.0 / tracker.MeanIdepth();
+  match->residual_ratio = t.residual_p50 / k.error_model.sigma;
   match->k_from_c = Sim3d(1.0 / s, t.frame_from_keyframe.So3(), t.frame_from_keyframe.Translation() / s);
   match->alpha = t.alpha - std::log(k.exposure / old.exposure);
   match->beta = t.beta;
@@ -237,20 +333,13 @@ bool System::VerifyLoop(int kf, System& owner, int c, LoopMatch* match) {
   return true;
 }
 
-void System::CorrectLoop(int kf, const LoopMatch& match) {
+void System::CorrectLoop(int kf, const LoopMatch& match, const std::map<std::pair<int, int>, int>& shared) {
   const int c = match.candidate;
   const std::vector<int> ids = AllKeyframes();
   std::map<int, int> node;
   std::vector<Sim3d> start;
   for (int k : ids) node[k] = static_cast<int>(start.size()), start.emplace_back(map_.keyframe(k).cam_from_world);
   // Edges: consecutive keyframes, and keyframes that share observations, as the map has them.
-  std::map<std::pair<int, int>, int> shared;
-  for (int pid = 0; pid < map_.NumPoints(); ++pid) {
-    const Point& p = map_.point(pid);
-    if (p.removed) continue;
-    for (const Observation& o : p.observations)
-      if (!o.outlier && !map_.keyframe(o.target).retired) ++shared[{std::min(p.host, o.target), std::max(p.host, o.target)}];
-  }
   const int span = 2 * (options_.window.temporal_keyframes + options_.window.covisible_keyframes);
   std::vector<PoseGraphEdge> edges;
   const auto measured = [&](int i, int j) { return start[node[i]] * start[node[j]].Inverse(); };

@@ -90,6 +90,12 @@ struct SystemStats {
     // travelled up to it, its rotation (degrees), and the scale its part of the map took.
     double translation_share = 0.0, rotation_deg = 0.0, scale = 1.0;
     double ms = 0.0;  // Verification and pose graph.
+    // The evidence: the direct alignment's median residual over the keyframe's error scale, the
+    // median move of the candidate's points in the keyframe (px), the correction (the centre's
+    // move plus the turn at the scene's depth) over the path the map's links give since the
+    // candidate, and the map as it is over the loop in median residual (0: aligned from the map's
+    // own pose, the keyframe found the loop's pose or no fit).
+    double residual_ratio = 0.0, shift_px = 0.0, correction_share = 0.0, margin = 0.0;
   };
   std::vector<LoopClosure> loops_closed;
   // Maps of the run merged into this one (System::MergeVerified).
