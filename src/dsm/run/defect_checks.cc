@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "dsm/io/trajectory_io.h"
+#include "dsm/tracking/tracking_quality.h"
 
 namespace dsm::testing {
 
@@ -49,6 +50,20 @@ void ExpectDefectsCostTheirFramesOnly(const Dataset& dataset, const RunSummary& 
         EXPECT_FALSE(Holds(keyframes, dataset.frames[i].t_ns)) << name << " frame " << i;
       }
     }
+  }
+  // Each relocalisation's evidence: the frame after its episode, the frames lost since the last
+  // trusted one, an alignment that passed the quality test.
+  const nlohmann::json& relocalised = s.stats["relocalised"];
+  ASSERT_EQ(relocalised.size(), defects.size()) << name;
+  for (size_t e = 0; e < defects.size(); ++e) {
+    const nlohmann::json& r = relocalised[e];
+    EXPECT_EQ(r["frame"].get<int>(), episodes[e].second + 1) << name;
+    EXPECT_GE(r["frames_lost"].get<int>(), episodes[e].second - episodes[e].first + 2) << name;
+    EXPECT_GE(r["inlier_ratio"].get<double>(), QualityOptions::min_inlier_ratio) << name;
+    EXPECT_LE(r["inlier_ratio"].get<double>(), 1.0) << name;
+    EXPECT_GT(r["inlier_level"].get<double>(), 0.5) << name;
+    EXPECT_GT(r["residual_ratio"].get<double>(), 0.0) << name;
+    EXPECT_LE(r["residual_ratio"].get<double>(), QualityOptions::max_relocalisation_residual_ratio) << name;
   }
   for (int i = episodes.back().second + 1; i < static_cast<int>(dataset.size()); ++i)
     EXPECT_TRUE(Holds(tracked, dataset.frames[i].t_ns)) << name << " frame " << i;

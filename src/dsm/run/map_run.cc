@@ -136,6 +136,7 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     all.frames_lost += s.frames_lost;
     all.relocalisations += s.relocalisations;
     append(&all.lost_episodes, s.lost_episodes);
+    append(&all.relocalised, s.relocalised);
     append(&all.tracking_ms, s.tracking_ms);
     append(&all.tracing_ms, s.tracing_ms);
     append(&all.mapping_ms, s.mapping_ms);
@@ -163,6 +164,20 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
     all.pyramids_loaded_max = std::max(all.pyramids_loaded_max, s.pyramids_loaded_max);
   }
   return all;
+}
+
+nlohmann::json RelocalisedJson(const SystemStats& s) {
+  nlohmann::json relocalised = nlohmann::json::array();
+  for (const SystemStats::Relocalisation& r : s.relocalised)
+    relocalised.push_back({{"frame", r.frame},
+                           {"keyframe", r.keyframe},
+                           {"frames_lost", r.frames_lost},
+                           {"predicted", r.predicted},
+                           {"inlier_ratio", r.inlier_ratio},
+                           {"inlier_level", r.inlier_level},
+                           {"residual_ratio", r.residual_ratio},
+                           {"margin", r.margin}});
+  return relocalised;
 }
 
 nlohmann::json LoopsClosedJson(const SystemStats& s) {

@@ -54,7 +54,8 @@ void EvaluateMap(const Dataset& dataset, MapRun* m, std::string* line);
 // The stats of all maps as one: counts summed, per-frame and per-keyframe lists concatenated.
 SystemStats Combined(const std::vector<MapRun>& maps);
 
-// stats.json's `loops_closed` and `maps_merged`: one object per event.
+// stats.json's `relocalised`, `loops_closed` and `maps_merged`: one object per event.
+nlohmann::json RelocalisedJson(const SystemStats& s);
 nlohmann::json LoopsClosedJson(const SystemStats& s);
 nlohmann::json MapsMergedJson(const SystemStats& s);
 

@@ -466,6 +466,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const f
   // Loop closure: places recognised, and the loops closed with their corrections.
   summary.stats["loops_detected"] = s.loops_detected;
   summary.stats["loops_closed"] = LoopsClosedJson(s);
+  summary.stats["relocalised"] = RelocalisedJson(s);
   summary.stats["maps_merged"] = MapsMergedJson(s);
   summary.stats["processing_s"] = process_s;
   summary.stats["frames_per_second"] = fps;

@@ -190,7 +190,7 @@ void System::TryRelocalise(FrameWork* f) {
   const std::string plain = track_.quality.CheckRelocalisationImage(f->signature.texture, reference_->texture);
   Tentative before = SaveTentative(f->index);
   f->report.relocalised = Relocalise(f->index, *f->pyramid, f->signature, f->exposure, plain, &f->result,
-                                     &f->relocalised_velocity, &f->reason);
+                                     &f->relocalised_velocity, &f->reason, &before.evidence);
   if (f->report.relocalised) {
     tentative_ = std::move(before);
     Transition(TrackingEvent::kRelocalised);
@@ -203,6 +203,7 @@ void System::AcceptPose(FrameWork* f) {
   const TrackResult& result = f->result;
   const bool confirmed = state_ == TrackingState::kConfirming && !f->report.relocalised;
   if (confirmed) {
+    stats_.relocalised.push_back(tentative_->evidence);
     tentative_.reset();
     ++stats_.relocalisations;
   }
@@ -223,7 +224,7 @@ void System::AcceptPose(FrameWork* f) {
   if (f->report.relocalised) {
     track_.quality.Restart(result.residual_p50, f->signature.texture);
   } else {
-    track_.quality.Trust(result.residual_p50, f->signature.texture);
+    track_.quality.Trust(result.residual_p50, f->signature.texture, result.inlier_ratio);
   }
   last_frame_keyframe_ = -1;
   f->report.status = TrackingStatus::kOk;

@@ -309,8 +309,10 @@ class System {
   // `plain`: empty when the frame has the usual texture, else why not
   // (TrackingQuality::CheckRelocalisationImage); such a frame is accepted only by three sightings
   // that move as one camera, never by the prediction.
+  // `evidence`: what the accepted pose rests on (SystemStats::Relocalisation).
   bool Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
-                  const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason);
+                  const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason,
+                  SystemStats::Relocalisation* evidence);
   // Relocalise's keyframes to align with: the reference first, then up to
   // relocalisation.candidates keyframes; `frame_features`: the frame's ORB features; `matches`:
   // theirs with each candidate but the reference (MatchFeatures).
@@ -351,6 +353,7 @@ class System {
     size_t record = 0;  // The relocalised frame's entry in frames_.
     std::shared_ptr<const TrackingReference> reference;
     TrackingHistory state;
+    SystemStats::Relocalisation evidence;  // Of the relocalisation, counted once confirmed.
   };
   Tentative SaveTentative(int index) const;
   void WithdrawRelocalisation();

@@ -38,6 +38,13 @@ inline SE3d RotationAbout(int axis, double angle) {
   return SE3d::Exp(xi);
 }
 
+// Whether cameras a and b (cam_from_world) see from two places: their centres more than a tenth of
+// the scene's depth apart (1 / mean_idepth) or their views turned by more than 5 degrees apart.
+inline bool OtherPlace(const SE3d& a, const SE3d& b, double mean_idepth) {
+  const SE3d b_from_a = b * a.Inverse();
+  return b_from_a.Inverse().Translation().norm() * mean_idepth > 0.1 || b_from_a.So3().Log().norm() > 5.0 * M_PI / 180.0;
+}
+
 // The absolute brightness of a frame tracked against `ref` with I_f = e^alpha I_ref + beta: from
 //   I_ref - b_ref = e^(a_ref - a_f) tau_ref / tau_f (I_f - b_f)
 // follow a_f = a_ref + alpha - log(tau_f / tau_ref) and b_f = beta + e^alpha b_ref.

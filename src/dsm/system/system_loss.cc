@@ -57,7 +57,7 @@ FrameReport System::LostFrame(FrameReport report, int64_t t_ns, std::string reas
 }
 
 System::Tentative System::SaveTentative(int index) const {
-  return Tentative{index, frames_.size(), reference_, track_};
+  return Tentative{index, frames_.size(), reference_, track_, {}};
 }
 
 void System::WithdrawRelocalisation() {

@@ -20,6 +20,10 @@
 // computed once, kept in keyframe_features_), their matches (made once: those that rank a keyframe
 // also give its PnP pose) and the candidates' alignments run in parallel on both cores: the mapping
 // side waits while the camera is lost.
+// Each accepted pose leaves its evidence (SystemStats::Relocalisation, stats.json `relocalised`):
+// the alignment's inlier share beside tracking's, its residual beside the level, whether the
+// prediction or three sightings accepted it, and its margin over the best alignment that passed
+// at another place.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -153,7 +157,8 @@ std::vector<SE3d> System::RelocalisationGuesses(int index, int k, const SE3d& st
 }
 
 bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
-                        const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason) {
+                        const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason,
+                        SystemStats::Relocalisation* evidence) {
   // The map is read below: the mapping side must be idle (nothing is handed to it while lost).
   if (mapping_thread_) mapping_thread_->WaitUntilIdle(/*urgent=*/true);
   UpdateReference(false);
@@ -244,6 +249,8 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   };
   // best: passed the quality test and the jump check; sighted: passed the quality test.
   std::optional<Found> best, sighted;
+  // Every alignment that passed the quality test: the camera in the world and its median residual.
+  std::vector<std::pair<SE3d, double>> passed;
   const auto cam_from_world = [&](const Found& f) {
     return f.result.frame_from_keyframe * map_.keyframe(f.keyframe).cam_from_world;
   };
@@ -257,7 +264,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   std::string why;
   double why_visibility;
   const auto weigh = [&] {
-    best.reset(), sighted.reset();
+    best.reset(), sighted.reset(), passed.clear();
     why = "no keyframe to relocalise against", why_visibility = -1.0;
     for (size_t c = 0; c < candidates.size(); ++c) {
       const int k = candidates[c];
@@ -266,6 +273,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
         const SE3d step =
             trusted ? r.frame_from_keyframe * map_.keyframe(k).cam_from_world * last_from_world.Inverse() : SE3d();
         std::string fail = track_.quality.CheckTracking(r, step, since, a.mean_idepth, k != ref);
+        if (fail.empty()) passed.emplace_back(r.frame_from_keyframe * map_.keyframe(k).cam_from_world, r.residual_p50);
         if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))
           sighted = Found{r, k, &a};
         if (fail.empty()) {
@@ -303,6 +311,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   // no longer where the relocalised one was, and from that guess the alignment can end in a
   // wrong minimum (a near occluder's parallax) that the residual level just restarted lets pass.
   if (best) *velocity = internal::ScaleSteps(cam_from_world(*best) * last_from_world.Inverse(), 1.0 / since);
+  const bool by_prediction = best.has_value();
   if (!best && sighted) {
     const Sighting now{index, cam_from_world(*sighted)};
     if (MovesAsOneCamera(now, sighted->aligned->mean_idepth)) {
@@ -321,6 +330,14 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
     return false;
   }
   sightings_.clear();
+  const SE3d winner = cam_from_world(*best);
+  *evidence = {index, best->keyframe, since, by_prediction, best->result.inlier_ratio,
+               track_.quality.InlierLevel(), best->result.residual_p50 / std::max(track_.quality.ResidualLevel(), 1e-9),
+               0.0};
+  for (const auto& [pose, p50] : passed)
+    if (internal::OtherPlace(pose, winner, best->aligned->mean_idepth) &&
+        (evidence->margin == 0.0 || p50 / best->result.residual_p50 < evidence->margin))
+      evidence->margin = p50 / best->result.residual_p50;
   // The keyframe becomes the reference of both sides: the mapping side is idle, and the next
   // keyframe it maps is made relative to it.
   if (best->keyframe != ref)

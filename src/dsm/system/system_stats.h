@@ -15,6 +15,18 @@ struct SystemStats {
   // of consecutive lost frames (first and last frame index) and how many ended by relocalisation.
   int frames_lost = 0, relocalisations = 0;
   std::vector<std::pair<int, int>> lost_episodes;
+  // Each confirmed relocalisation and its evidence (System::Relocalise): the relocalised frame, the
+  // keyframe it was aligned with, the frames since the last trusted one, whether its pose was
+  // within reach of the prediction (else three sightings moved as one camera), the alignment's
+  // inlier share beside the inlier level of tracking before the loss (0: not known), its median
+  // residual over the residual level, and the margin: the median residual of the best alignment
+  // that passed the quality test at another place over the winner's (0: no other place passed).
+  struct Relocalisation {
+    int frame = -1, keyframe = -1, frames_lost = 0;
+    bool predicted = false;
+    double inlier_ratio = 0.0, inlier_level = 0.0, residual_ratio = 0.0, margin = 0.0;
+  };
+  std::vector<Relocalisation> relocalised;
   int initialized_at_frame = -1;
   std::string initialization;  // How the map started: "two-view" or "planar" (initializer.h).
   double image_noise_sigma = -1.0;  // Noise level of the first frame (image/noise.h), grey levels.

@@ -41,6 +41,9 @@ TrackingQuality::TrackingQuality(const QualityOptions& options) : options_(optio
 
 double TrackingQuality::ResidualLevel() const { return MedianOf(residual_); }
 double TrackingQuality::TextureLevel() const { return MedianOf(texture_); }
+double TrackingQuality::InlierLevel() const {
+  return static_cast<int>(inliers_.size()) >= options_.min_history ? MedianOf(inliers_) : 0.0;
+}
 
 bool TrackingQuality::BelowTextureLevel(double texture, double ratio, double level) const {
   return static_cast<int>(texture_.size()) >= options_.min_history && texture < ratio * level;
@@ -116,9 +119,11 @@ void TrackingQuality::Restart(double residual_p50, double texture) {
   Trust(residual_p50, texture);
 }
 
-void TrackingQuality::Trust(double residual_p50, double texture) {
+void TrackingQuality::Trust(double residual_p50, double texture, double inlier_ratio) {
   residual_.push_back(residual_p50);
   texture_.push_back(texture);
+  if (inlier_ratio >= 0.0) inliers_.push_back(inlier_ratio);
+  while (static_cast<int>(inliers_.size()) > options_.history) inliers_.pop_front();
   while (static_cast<int>(residual_.size()) > options_.history) residual_.pop_front();
   while (static_cast<int>(texture_.size()) > options_.history) texture_.pop_front();
 }

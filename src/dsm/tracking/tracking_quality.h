@@ -95,8 +95,8 @@ class TrackingQuality {
   std::string CheckJump(const SE3d& step, int frames, const SE3d& velocity, double mean_idepth) const;
   // CheckJump's reach alone, for a camera moving `speed` per frame (translation, map units).
   std::string CheckSpeed(const SE3d& step, int frames, double speed, double mean_idepth) const;
-  // A trusted frame: its values join the levels.
-  void Trust(double residual_p50, double texture);
+  // A trusted frame: its values join the levels (inlier_ratio < 0: not known).
+  void Trust(double residual_p50, double texture, double inlier_ratio = -1.0);
   // A new map's levels before its first trusted frame: the initialiser's frames' textures and
   // one frame's residual against the new map (<= 0: none; min_history copies of it).
   void Seed(double residual_p50, const std::vector<double>& textures);
@@ -105,6 +105,7 @@ class TrackingQuality {
   void Restart(double residual_p50, double texture);
 
   double ResidualLevel() const;  // 0 before the first trusted frame.
+  double InlierLevel() const;    // Of TrackResult::inlier_ratio; 0 before min_history values.
   double TextureLevel() const;  // 0 before the first trusted frame.
 
  private:
@@ -113,7 +114,7 @@ class TrackingQuality {
   bool BelowTextureLevel(double texture, double ratio, double level) const;
 
   QualityOptions options_;
-  std::deque<double> residual_, texture_;
+  std::deque<double> residual_, texture_, inliers_;
 };
 
 }  // namespace dsm

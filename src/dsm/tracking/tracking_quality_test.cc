@@ -126,6 +126,23 @@ TEST(TrackingQuality, OnlyAFrameWithTheUsualTextureRelocalises) {
   EXPECT_THROW(o.Validate(), InputError);
 }
 
+// The inlier level follows the trusted frames whose inlier share is known; a relocalisation
+// restarts the residual level, not it.
+TEST(TrackingQuality, KeepsTheInlierLevelOfTrackedFrames) {
+  QualityOptions o;
+  o.history = 5;
+  TrackingQuality q(o);
+  q.Trust(1.0, 10.0, 0.9);
+  q.Trust(1.0, 10.0, 0.8);
+  EXPECT_EQ(q.InlierLevel(), 0.0);  // Fewer than min_history (3) values.
+  q.Trust(1.0, 10.0);               // Not known: no value.
+  EXPECT_EQ(q.InlierLevel(), 0.0);
+  for (double inliers : {0.7, 0.95, 0.92, 0.93}) q.Trust(1.0, 10.0, inliers);
+  EXPECT_DOUBLE_EQ(q.InlierLevel(), 0.92);  // Of the last 5: 0.8, 0.7, 0.95, 0.92, 0.93.
+  q.Restart(3.0, 10.0);
+  EXPECT_DOUBLE_EQ(q.InlierLevel(), 0.92);
+}
+
 TEST(TrackingQuality, NoKeyframeWhereTheTextureJustFell) {
   TrackingQuality q{QualityOptions{}};
   EXPECT_TRUE(q.CheckKeyframeImage(8.1, 10.0));
