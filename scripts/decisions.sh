@@ -2,7 +2,8 @@
 # The decisions that change a map, judged against exact ground truth: every relocalisation, new
 # map, merge and loop closure of runs over rendered scenes with a cut (frames left out: the camera
 # reappears elsewhere) or a hand over the lens, at two positions per scene, in the sequential and
-# the default (free) pace. Prints a markdown table, a row per scene and pace, and writes it to
+# the default (free) pace. Prints a markdown table, a row per scene and pace, then one row per
+# relocalisation with its evidence (stats.json `relocalised`) and its judgement, and writes both to
 # docs/results.md (section `decisions`, scripts/results.sh).
 #
 # Usage: ./scripts/decisions.sh [--jobs N] [--scenes "loop orbit"] [--seeds "1 2"] [--paces "sequential free"]
@@ -15,7 +16,8 @@
 #           interrupted battery, or to judge its runs again; same binary only)
 #   DSM_BIN=path   this dsm binary (no set-up or build)
 # How each decision is judged:
-#   relocalisation  the first frame posed after a lost episode lies within 5 cm of the truth (the
+#   relocalisation  (stats.json `relocalised`: in the map the camera was lost from, or a suspended
+#                   map it came back to) the relocalised frame lies within 5 cm of the truth (the
 #                   map aligned to the ground truth by Sim(3), the error in the truth's metres):
 #                   right, else wrong; `frames` is the median of the frames lost after the defect
 #                   that caused the loss had ended
@@ -107,25 +109,26 @@ def error_m(m, frame):
     return d(est[t], gt[t]) * (path_world / path_map if path_map > 0 else 1.0)
 right = wrong = 0
 frames = []
-for first, last in stats["lost_episodes"]:
-    after = last + 1
-    m = map_of(after)
-    if m is None or after >= len(stamps): continue
-    # An episode that ended in a map started after it is no relocalisation.
-    if any(a == after for a, b in (m.get("spans") or [])) and m.get("first_frame") == after: continue
-    e = error_m(m, after)
+relocs = []
+# Every relocalisation, in the map the loss was in or in a suspended map the camera came back to.
+for r in stats.get("relocalised", []):
+    frame = r["frame"]
+    m = map_of(frame)
+    e = error_m(m, frame) if m is not None and frame < len(stamps) else None
     if e is None: continue
     # Frames lost after the defect that caused the loss had ended.
-    end = max([e for e in ends if e < last and e >= first - 1] or [first - 1])
-    frames.append(last - end)
+    end = max([d for d in ends if d < frame] or [frame - 1])
+    frames.append(frame - 1 - end)
     if e <= 0.05: right += 1
     else: wrong += 1
+    relocs.append(dict(r, right=e <= 0.05, error_m=e))
 merged = stats.get("maps_merged", [])
 bad = sum(1 for m in maps if (m.get("keyframe_ate_m") or 0) > 0.005)
 merges_bad = sum(1 for g in merged for m in maps if m["dir"] == "." and (m.get("keyframe_ate_m") or 0) > 0.005)
 print(json.dumps({"losses": len(stats["lost_episodes"]), "right": right, "wrong": wrong, "frames": frames,
                   "new_maps": len(stats["maps"]) - 1, "merges_right": len(merged) - merges_bad,
                   "merges_wrong": merges_bad, "bad_maps": bad, "loops": len(stats.get("loops_closed", [])),
+                  "relocs": relocs,
                   "ate": (json.load(open(os.path.join(run, "eval.json")))["keyframes"]["ape"]["rmse"]
                           if os.path.exists(os.path.join(run, "eval.json")) else None)}))
 '
@@ -161,6 +164,7 @@ printf '%s\n' "${jobs_list[@]}" | xargs -P "$JOBS" -L 1 bash -c 'run_one "$@"' _
 
 table() {
   results_header
+  evidence=()
   for scene in $SCENES; do
     for pace in $PACES; do
       judged=()
@@ -174,6 +178,8 @@ table() {
             j=$(jq -c --argjson off "$off" '. + {loops_ok: (if .ate != null and .ate <= 1.05 * $off then .loops else 0 end)}' <<<"$j")
           fi
           judged+=("$j")
+          evidence+=("$(jq -c --arg run "$scene $seed $pace" --arg defects "$(defects_of "$scene" "$pos")" \
+            '{run: $run, defects: $defects, relocs: .relocs}' <<<"$j")")
         done
       done
       printf '%s\n' "${judged[@]}" | jq -rs --arg scene "$scene" --arg pace "$pace" '
@@ -185,5 +191,13 @@ table() {
         "\(map(.bad_maps // 0) | add) |"'
     done
   done
+  # Each relocalisation with its evidence (stats.json `relocalised`) and how it was judged.
+  echo
+  echo "| run (scene seed pace) | defects | frame | frames lost | accepted by | inliers / level | residual / level | margin | judged |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+  printf '%s\n' "${evidence[@]}" | jq -r '. as $r | .relocs[] |
+    "| \($r.run) | \($r.defects) | \(.frame) | \(.frames_lost) | \(if .predicted then "prediction" else "sightings" end) | " +
+    "\(.inlier_ratio * 100 | round / 100) / \(.inlier_level * 100 | round / 100) | \(.residual_ratio * 100 | round / 100) | " +
+    "\(.margin * 100 | round / 100) | \(if .right then "right" else "wrong, \(.error_m * 100 | round / 100) m off" end) |"'
 }
 table | results_tee decisions
