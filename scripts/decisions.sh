@@ -70,10 +70,11 @@ render() {  # render SCENE SEED POSITION DIR
   fi
 }
 
-# The judgement of one run folder: prints "losses right wrong frames... | new_maps | merges_right
-# merges_wrong | bad_maps" as JSON, from stats.json, the maps' trajectories and the rendering's truth.
+# The judgement of one run folder, as JSON (losses, relocalisations right and wrong with the frames
+# each took and its evidence, new maps, merges right and wrong, maps over 5 mm, loops, ATE), from
+# stats.json, the maps' trajectories and the rendering's truth.
 JUDGE='
-import json, math, os, sys
+import functools, json, math, os, sys
 run, seq, defects = sys.argv[1], sys.argv[2], sys.argv[3]
 # The defects in the frame indices of the run: a cut leaves its frames out of the recording, so the
 # frames after it move back by its length; the last index of each defect (a cut: the frame before
@@ -98,15 +99,20 @@ def map_of(frame):
     for m in maps:
         if any(a <= frame <= b for a, b in (m.get("spans") or [])): return m
     return None
-def error_m(m, frame):
-    est, gt = tum(os.path.join(run, m["dir"], "frames.tum")), tum(os.path.join(run, m["dir"], "groundtruth_in_map.tum"))
+# The frames of a map, its truth in the frame of the map, and the scale of the truth over the map
+# (read once per map).
+@functools.lru_cache(maxsize=None)
+def trajectories(map_dir):
+    est, gt = tum(os.path.join(run, map_dir, "frames.tum")), tum(os.path.join(run, map_dir, "groundtruth_in_map.tum"))
     keys = sorted(k for k in est if k in gt and k in truth)
+    path_map = sum(math.dist(gt[a], gt[b]) for a, b in zip(keys, keys[1:]))
+    path_world = sum(math.dist(truth[a], truth[b]) for a, b in zip(keys, keys[1:]))
+    return est, gt, len(keys), (path_world / path_map if path_map > 0 else 1.0)
+def error_m(m, frame):
+    est, gt, n, scale = trajectories(m["dir"])
     t = stamps[frame]
-    if t not in est or t not in gt or len(keys) < 2: return None
-    d = lambda a, b: math.dist(a, b)
-    path_map = sum(d(gt[a], gt[b]) for a, b in zip(keys, keys[1:]))
-    path_world = sum(d(truth[a], truth[b]) for a, b in zip(keys, keys[1:]))
-    return d(est[t], gt[t]) * (path_world / path_map if path_map > 0 else 1.0)
+    if t not in est or t not in gt or n < 2: return None
+    return math.dist(est[t], gt[t]) * scale
 right = wrong = 0
 frames = []
 relocs = []
