@@ -12,7 +12,7 @@
 #            ablation); `accuracy`, the README's results table, is
 #            --configs "dsm sw" --seeds "1 2 3 4 5" --section accuracy
 #   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan block twins
-#            handheld, each also as <scene>-noisy (rendered with image noise of 6 grey levels
+#            handheld uturn swing, each also as <scene>-noisy (rendered with image noise of 6 grey levels
 #            instead of 1) and <scene>-rs (at 30 Hz with a rolling shutter of 30 us per row), and the
 #            shared euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
 #   configs: dsm (defaults), sw (DSM-SW: N_t + N_c temporal keyframes), sw-short (DSM-SW with N_t

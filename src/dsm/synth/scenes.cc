@@ -211,13 +211,19 @@ void TwinCorridor(std::mt19937& rng, Scene* scene) {
                     textures[i]);
 }
 
+// 0 below 0, 1 above 1, smooth (zero slope at both ends) between.
+double SmoothStep(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3.0 - 2.0 * x);
+}
+
 // Smooth there-and-back profile: 0 -> 1 -> 0 over tau in [0, 1] with zero speed at the ends.
 double ThereAndBack(double tau) { return 0.5 - 0.5 * std::cos(kTwoPi * tau); }
 
 }  // namespace
 
 std::vector<std::string> SceneNames() {
-  return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan", "block", "twins", "handheld"};
+  return {"loop", "shake", "forward", "rotation", "exposure", "orbit", "pan", "block", "twins", "handheld", "uturn", "swing"};
 }
 
 std::string SceneNameList(const std::string& separator, const std::string& last) {
@@ -228,7 +234,7 @@ std::string SceneNameList(const std::string& separator, const std::string& last)
 }
 
 int DefaultFrames(const std::string& scene) {
-  if (scene == "loop" || scene == "exposure" || scene == "orbit") return 600;
+  if (scene == "loop" || scene == "exposure" || scene == "orbit" || scene == "uturn" || scene == "swing") return 600;
   if (scene == "forward") return 400;
   if (scene == "block") return 1200;
   if (scene == "twins") return 340;
@@ -292,7 +298,7 @@ SynthSequence MakeSequence(const SynthOptions& options) {
   seq.camera.cx = 0.5 * (options.width - 1);
   seq.camera.cy = 0.5 * (options.height - 1);
 
-  if (name == "forward") {
+  if (name == "forward" || name == "uturn") {
     Corridor(rng, &seq.scene);
   } else if (name == "orbit") {
     OrbitRoom(rng, &seq.scene);
@@ -356,6 +362,25 @@ SynthSequence MakeSequence(const SynthOptions& options) {
       const double x = 0.5 + 12.0 * ThereAndBack(tau);
       position = Eigen::Vector3d(x, 0.15 * std::sin(kTwoPi * 0.2 * t_s), 1.4) + 0.02 * jitter.At(t_s);
       target = position + Eigen::Vector3d(1.0, 0.05 * std::sin(kTwoPi * 0.13 * t_s), -0.05) + 0.03 * look_jitter.At(t_s);
+    } else if (name == "uturn") {
+      // Out along y = -0.45 m to x = 11 m facing +x, a U-turn there (the heading turns by 180 deg
+      // over 4.5 s while the camera crosses to y = +0.45 m, slowing to a stop at the far end) and
+      // back along the other side facing -x; the pace peaks at ~1.2 m/s mid-corridor.
+      const double x = 0.5 + 10.5 * ThereAndBack(tau);
+      const double turn = SmoothStep((tau - 0.425) / 0.15);  // 0 -> 1 over tau 0.425 .. 0.575
+      const double yaw = M_PI * turn;
+      position = Eigen::Vector3d(x, -0.45 * std::cos(M_PI * turn), 1.4 + 0.02 * std::sin(kTwoPi * 1.7 * t_s)) +
+                 0.02 * jitter.At(t_s);
+      target = position + Eigen::Vector3d(std::cos(yaw), std::sin(yaw), -0.06) + 0.03 * look_jitter.At(t_s);
+    } else if (name == "swing") {
+      // Two laps of a 5.0 x 3.4 m ellipse, facing along the path and 0.45 rad outwards (the
+      // walls and the furniture in front), with a walking bob.
+      const double a = 2.0 * kTwoPi * tau;
+      position = Eigen::Vector3d(2.5 * std::cos(a), 1.7 * std::sin(a), 1.5 + 0.02 * std::sin(kTwoPi * 1.8 * t_s)) +
+                 0.02 * jitter.At(t_s);
+      const Eigen::Vector3d ahead(-2.5 * std::sin(a), 1.7 * std::cos(a), 0.0);
+      const double heading = std::atan2(ahead.y(), ahead.x()) - 0.45;
+      target = position + Eigen::Vector3d(std::cos(heading), std::sin(heading), -0.1) + 0.04 * look_jitter.At(t_s);
     } else if (name == "pan") {
       // Hand-held panning from the first frame: 1.3 m in front of the +y wall, yaw swings of
       // +-30 deg (0.3 Hz) and a few centimetres of hand motion, so the first 5 s see mostly one
@@ -402,6 +427,9 @@ SynthSequence MakeSequence(const SynthOptions& options) {
       p.exposure_ms = 10.0 * (0.75 + 0.25 * std::sin(kTwoPi * 0.09 * t_s));
       p.gain = static_cast<float>(1.0 + 0.15 * std::sin(kTwoPi * 0.05 * t_s + 1.0));
       p.offset = static_cast<float>(8.0 * std::sin(kTwoPi * 0.07 * t_s));
+    } else if (name == "swing") {
+      p.exposure_ms = 7.5 * (1.0 + 0.4 * std::sin(kTwoPi * 0.08 * t_s));
+      p.gain = static_cast<float>(1.0 + 0.1 * std::sin(kTwoPi * 0.045 * t_s + 0.5));
     }
     seq.photometry.push_back(p);
   }

@@ -17,6 +17,10 @@
 //             aliasing: a place that looks seen before but is not)
 //   handheld  a phone held out in the furnished room and turned about in yaw, pitch and roll
 //             (peaks near 90 deg/s) while the body sways a little: mostly rotation
+//   uturn     down the corridor facing the way it goes, a U-turn at the far end, and back along
+//             the other side facing back: the walls seen again from the other way
+//   swing     two laps walked around the furnished room facing the way it goes, while the
+//             exposure time swings +-40% and the gain +-10% (the gain not in the recording)
 //
 // With a rolling shutter (line_delay_us > 0) each image row is seen at its own time: row v of
 // frame i at t_i + v * line_delay, the frame's timestamp t_i being its first row's, and its
