@@ -10,10 +10,11 @@
 #            an interrupted ablation, or to add sequences or configs to one; same binary only)
 #   section: the section of docs/results.md the table is written to (scripts/results.sh; default
 #            ablation); `accuracy`, the README's results table, is
-#            --configs "dsm sw" --seeds "1 2 3 4 5" --section accuracy
+#            --configs "dsm sw" --seeds "1 2 3 4 5" --section accuracy --sequences "loop shake forward
+#            rotation exposure orbit pan block twins handheld uturn swing euroc room"
 #   sequences: the synthetic scenes loop shake forward rotation exposure orbit pan block twins
-#            handheld uturn swing, each also as <scene>-noisy (rendered with image noise of 6 grey levels
-#            instead of 1) and <scene>-rs (at 30 Hz with a rolling shutter of 30 us per row), and the
+#            handheld uturn swing, each also as <scene>-noisy (rendered with image noise of 6 grey
+#            levels instead of 1) and <scene>-rs (at 30 Hz with a rolling shutter of 30 us per row), and the
 #            shared euroc (EuRoC MH01 frames) and room (path-traced blender_room_s3)
 #   configs: dsm (defaults), sw (DSM-SW: N_t + N_c temporal keyframes), sw-short (DSM-SW with N_t
 #            alone, as before it had the window's whole size), nc3, nc1, nt3, nt6, levels1, levels3,

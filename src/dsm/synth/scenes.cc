@@ -7,6 +7,7 @@
 
 #include "dsm/image/defects.h"
 #include "dsm/io/calibration_io.h"
+#include "dsm/synth/smooth_step.h"
 #include "dsm/util/check.h"
 
 namespace dsm::synth {
@@ -211,12 +212,6 @@ void TwinCorridor(std::mt19937& rng, Scene* scene) {
                     textures[i]);
 }
 
-// 0 below 0, 1 above 1, smooth (zero slope at both ends) between.
-double SmoothStep(double x) {
-  x = std::clamp(x, 0.0, 1.0);
-  return x * x * (3.0 - 2.0 * x);
-}
-
 // Smooth there-and-back profile: 0 -> 1 -> 0 over tau in [0, 1] with zero speed at the ends.
 double ThereAndBack(double tau) { return 0.5 - 0.5 * std::cos(kTwoPi * tau); }
 
@@ -365,9 +360,9 @@ SynthSequence MakeSequence(const SynthOptions& options) {
     } else if (name == "uturn") {
       // Out along y = -0.45 m to x = 11 m facing +x, a U-turn there (the heading turns by 180 deg
       // over 4.5 s while the camera crosses to y = +0.45 m, slowing to a stop at the far end) and
-      // back along the other side facing -x; the pace peaks at ~1.2 m/s mid-corridor.
+      // back along the other side facing -x; the pace peaks at ~1.1 m/s mid-corridor.
       const double x = 0.5 + 10.5 * ThereAndBack(tau);
-      const double turn = SmoothStep((tau - 0.425) / 0.15);  // 0 -> 1 over tau 0.425 .. 0.575
+      const double turn = SmoothStep(0.425, 0.575, tau);
       const double yaw = M_PI * turn;
       position = Eigen::Vector3d(x, -0.45 * std::cos(M_PI * turn), 1.4 + 0.02 * std::sin(kTwoPi * 1.7 * t_s)) +
                  0.02 * jitter.At(t_s);

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <vector>
 
+#include "dsm/synth/smooth_step.h"
+
 namespace dsm::synth {
 
 namespace {
@@ -20,11 +22,6 @@ inline int FastFloor(float x) {
   const int i = static_cast<int>(x);
   return x < static_cast<float>(i) ? i - 1 : i;
 }
-
-// C1 interpolation weight 3t^2 - 2t^3.
-inline float Fade(float t) { return t * t * (3.f - 2.f * t); }
-
-inline float SmoothStep(float e0, float e1, float x) { return Fade(std::clamp((x - e0) / (e1 - e0), 0.f, 1.f)); }
 
 // Periodic fractal value noise, baked once, with a box-filtered mip chain.
 class NoiseTile {
