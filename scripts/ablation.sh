@@ -4,7 +4,7 @@
 # (Sim(3)), keyframes, map points, points created and PBA time per keyframe.
 #
 # Usage: ./scripts/ablation.sh [--jobs N] [--sequences "loop forward euroc"] [--configs "dsm sw ..."]
-#                              [--seeds "1 2 3"] [--work DIR] [--section NAME] [--reuse]
+#                              [--seeds "1 2 3"] [--starts "0 1 2"] [--work DIR] [--section NAME] [--reuse]
 #        ./scripts/ablation.sh --print-header   the table's header alone (no build, no run)
 #   reuse:   a run whose stats.json is in the work folder from before is not run again (to resume
 #            an interrupted ablation, or to add sequences or configs to one; same binary only)
@@ -40,6 +40,10 @@
 #            scene move by tens of percent with rounding alone, so compare variants on several seeds.
 #            EuRoC has one run per config; the room walk starts at frame 2 (seed - 1) per seed (a
 #            single room run moves by a factor of several with the first frame).
+#   starts:  first frames (default 0): each seed's run is repeated from each, and a row gives the
+#            median over seeds x starts. A run started one frame later moves by a factor of up to
+#            3 (uturn, orbit, pan), so 5 seeds alone resolve differences of tens of percent at best.
+#            EuRoC starts at the frame given; the room walk at 2 (seed - 1) + 10 x start.
 # Timings are per process; with --jobs > 1 the runs share the cores (default: 1 job).
 # DSM_BIN=path runs this dsm binary (no set-up or build).
 set -euo pipefail
@@ -52,6 +56,7 @@ JOBS=1
 SECTION=ablation
 REUSE=0
 SEEDS="1"
+STARTS="0"
 SEQUENCES="loop shake forward rotation exposure orbit pan euroc room"
 CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba no-occlusion all-reference no-noise-floor no-contrast-floor bilinear no-texture-loss free-sigma newest-model no-young-ba loop-ba"
 WORK="ablation_out"
@@ -61,6 +66,7 @@ while (($#)); do
     --sequences) SEQUENCES="$2"; shift 2 ;;
     --configs) CONFIGS="$2"; shift 2 ;;
     --seeds) SEEDS="$2"; shift 2 ;;
+    --starts) STARTS="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
     --section) SECTION="$2"; shift 2 ;;
     --reuse) REUSE=1; shift ;;
@@ -70,6 +76,9 @@ done
 
 for seed in $SEEDS; do
   [[ "$seed" =~ ^[0-9]+$ ]] || { echo "ablation: --seeds: '$seed' is not a non-negative integer" >&2; exit 2; }
+done
+for start in $STARTS; do
+  [[ "$start" =~ ^[0-9]+$ ]] || { echo "ablation: --starts: '$start' is not a non-negative integer" >&2; exit 2; }
 done
 
 source scripts/dsm_binary.sh
@@ -109,18 +118,29 @@ args_for() {
   esac
 }
 
-# Runs of a sequence: "name dataset [run arguments]" per line (one per seed for the synthetic
-# scenes; the room walk, which cannot be rendered anew, starts at frame 2 (seed - 1) instead).
+# Runs of a sequence: "name dataset [run arguments]" per line, one per seed and start (the
+# synthetic scenes are rendered once per seed; the room walk, which cannot be rendered anew, starts
+# at frame 2 (seed - 1) instead).
 runs_for() {
+  local start suffix
+  for start in $STARTS; do
+    suffix=""
+    [ "$start" = 0 ] || suffix="_start$start"
+    runs_from "$1" "$start" "$suffix"
+  done
+}
+
+runs_from() {
+  local start="$2" suffix="$3"
   if [ "$1" = euroc ]; then
-    echo "euroc $DATA/euroc_mh01_shake"
+    echo "euroc$suffix $DATA/euroc_mh01_shake --start $start"
     return
   fi
   if [ "$1" = room ]; then
     for seed in $SEEDS; do
       local name=room
       [ "$seed" = 1 ] || name="room_seed$seed"
-      echo "$name $DATA/blender_room_s3 --start $((2 * (seed - 1)))"
+      echo "$name$suffix $DATA/blender_room_s3 --start $((2 * (seed - 1) + 10 * start))"
     done
     return
   fi
@@ -132,7 +152,7 @@ runs_for() {
     [ "$seed" = 1 ] || name="$1_seed$seed"
     [ -d "$WORK/seq_$name" ] ||
       "$DSM" synth --scene "$scene" --seed "$seed" --noise "$noise" "${shutter[@]}" --out "$WORK/seq_$name" >/dev/null
-    echo "$name $WORK/seq_$name"
+    echo "$name$suffix $WORK/seq_$name --start $start"
   done
 }
 
@@ -147,7 +167,7 @@ for s in $SEQUENCES; do
 done
 printf '%s\n' "${jobs_list[@]}" | xargs -P "$JOBS" -I{} sh -c '{} || echo "failed: {}" >&2'
 
-# One row per sequence and config: medians over the seeds' runs that finished.
+# One row per sequence and config: medians over the runs (seeds x starts) that finished.
 table() {
 results_header
 for s in $SEQUENCES; do
