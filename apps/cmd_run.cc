@@ -5,7 +5,7 @@
 
 #include "apps/commands.h"
 #include "dsm/io/calibration_io.h"
-#include "dsm/io/options_io.h"
+#include "dsm/config/option_registry.h"
 #include "dsm/run/interrupt.h"
 #include "dsm/run/run.h"
 #include "dsm/util/check.h"

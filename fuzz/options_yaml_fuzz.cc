@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Option files (`dsm run --options FILE`): sections of keys, then SystemOptions::Validate.
-#include "dsm/io/options_io.h"
+#include "dsm/config/option_registry.h"
 #include "dsm/util/check.h"
 #include "fuzz/fuzz_input.h"
 

@@ -15,7 +15,7 @@
 
 #include "dsm/geometry/undistorter.h"
 #include "dsm/io/dataset.h"
-#include "dsm/io/options_io.h"
+#include "dsm/config/option_registry.h"
 #include "dsm/mapfile/map_file.h"
 #include "dsm/mapping/map_points.h"
 #include "dsm/run/frame_reader.h"

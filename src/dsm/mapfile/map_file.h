@@ -5,7 +5,7 @@
 // Format version 1. Entries:
 //   manifest.json   {"format": "dsm-map", "version": 1, "created_by": "dsm <version>",
 //                    "camera": {width, height, fx, fy, cx, cy}  (the undistorted pinhole camera),
-//                    "options": the option file of the run that made the maps (io/options_io.h),
+//                    "options": the option file of the run that made the maps (config/option_registry.h),
 //                    "maps": [{"id", "keyframes", "points", "observations", "thumbnail_values",
 //                              "covisibility_links", "interpolation": "bilinear" | "bspline",
 //                              "window": [ids], "covisible": [ids], "image_noise_sigma",

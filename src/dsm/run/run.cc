@@ -14,7 +14,7 @@
 
 #include "dsm/eval/metrics.h"
 #include "dsm/geometry/undistorter.h"
-#include "dsm/io/options_io.h"
+#include "dsm/config/option_registry.h"
 #include "dsm/io/trajectory_io.h"
 #include "dsm/mapfile/map_file.h"
 #include "dsm/report/report.h"

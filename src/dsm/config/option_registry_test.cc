@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "dsm/io/options_io.h"
+#include "dsm/config/option_registry.h"
 
 #include <regex>
 #include <sstream>

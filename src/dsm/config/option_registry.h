@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Option files: a YAML mapping of sections to values, e.g.
+// The option registry: every option of SystemOptions a user can set, declared once with its key
+// (section.name) and a one-line description, above system/ so that the layers below it need no
+// option of the whole system. Option files are a YAML mapping of sections to values, e.g.
 //   window: {temporal_keyframes: 5}
 //   pba: {levels: 2}
 //   robust: {function: huber}
