@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: MIT
+// One run over a dataset (RunDataset, run.h) and the state it keeps between frames.
+//
+// FeedFrames takes the frames in order. Each is released (realtime: at its recorded time; the
+// frames that came while tracking was busy are dropped, as by a camera driver with a one-frame
+// buffer), read (free, sequential: ahead, on the reader's thread), handed to the maps (map_set.h)
+// and settled: its events, diagnostics, progress and live view. In the realtime pace a frame that
+// comes while the mapping side is busy is told a first pose at once and waits in the backlog
+// (frame_backlog.h), or waits for the keyframe being mapped up to a latency target
+// (realtime_wait.h). Finish closes every map (map_run.h) and writes stats.json (run_stats.h), the
+// report and the map file.
+//
+// Everything here is the caller's thread's; the maps' mapping sides run on their own.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include "dsm/geometry/undistorter.h"
+#include "dsm/io/dataset.h"
+#include "dsm/mapfile/map_file.h"
+#include "dsm/run/debug_writer.h"
+#include "dsm/run/frame_backlog.h"
+#include "dsm/run/frame_reader.h"
+#include "dsm/run/live_view.h"
+#include "dsm/run/map_run.h"
+#include "dsm/run/map_set.h"
+#include "dsm/run/progress.h"
+#include "dsm/run/realtime_wait.h"
+#include "dsm/run/run.h"
+#include "dsm/run/run_stats.h"
+
+namespace dsm {
+
+class DatasetRun {
+ public:
+  // Checks the options against the dataset (InputError), creates the output folder, opens the
+  // live view and takes up the maps of RunOptions::load_map. The run's clock starts here.
+  DatasetRun(const Dataset& dataset, const RunOptions& options, std::filesystem::path out_dir);
+  DatasetRun(const DatasetRun&) = delete;  // Its systems' pose listeners point at it.
+  DatasetRun& operator=(const DatasetRun&) = delete;
+
+  // Feeds frames start .. end - 1 in the pace's way; stops early after SIGINT / SIGTERM.
+  void FeedFrames();
+  // Ends the maps, writes every output and returns the summary; InputError after the other
+  // outputs are written when the map file cannot be.
+  RunSummary Finish();
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  using TimePoint = Clock::time_point;
+
+  std::unique_ptr<System> MakeSystem();
+  // MapSet's Closer: writes map `id`'s outputs (map_run.h) and keeps what --save-map stores.
+  void EndMap(int id, System& system, const MapSet::Spans& spans, int merged_into);
+  // Realtime: when frame i is released, as a camera would deliver it.
+  TimePoint ReleaseTime(int i) const;
+  // Frame i handed to the maps, its latencies and events; `first_pose` told before (Preview).
+  void Take(int i, const Image<float>& image, TimePoint released, std::optional<TimePoint> taken,
+            std::optional<TimePoint> wait_until, std::optional<TimePoint> first_pose);
+  // A frame settled in map `s.map`: its events, diagnostics and progress.
+  void Settle(const MapSet::Settled& s);
+  // Realtime: the waiting frames in order, each once the mapping side has settled, until
+  // `deadline` (none: all of them, the run ended); one that waited too long at once.
+  void Drain(std::optional<TimePoint> deadline);
+  // Realtime: the frame `i` is one of the frames taken with a backlog or a latency target.
+  void TakeReleased(int i, const Image<float>& image, TimePoint released, TimePoint taken);
+  // The map file of RunOptions::save_map; the error, if it cannot be written.
+  std::string SaveMapFile(RunSummary* summary);
+
+  const Dataset& dataset_;
+  const RunOptions& options_;
+  const std::filesystem::path out_dir_;
+  const TimePoint wall0_ = Clock::now();
+  const int end_;  // One past the last frame.
+  const std::unique_ptr<tbb::global_control> workers_;  // RunOptions::workers, when set.
+  const SystemOptions system_options_;  // The user's, with what the pace decides.
+  const Undistorter undistorter_;
+  std::optional<DebugWriter> debug_;
+  std::optional<LiveView> live_;
+
+  std::optional<TimePoint> first_posed_;  // The current frame's (System::SetPoseListener).
+  std::vector<std::optional<MapRun>> ended_;      // By map id.
+  std::vector<std::optional<StoredMap>> stored_;  // By map id, with --save-map.
+  std::string loaded_options_;  // The options that made the loaded maps.
+  int loaded_maps_ = 0;
+  nlohmann::json map_loaded_;  // stats.json's "map_loaded" (null: no map file).
+  std::optional<MapSet> maps_;
+
+  TimePoint process0_;  // The first frame's release.
+  std::optional<FrameReader> reader_;  // Free and sequential paces.
+  std::optional<FramePrefetch> prefetch_;  // Realtime: the reader's, on this thread.
+  bool any_frame_used_ = false;  // A frame of the calibration's size was read.
+  Progress progress_;
+  ProgressState shown_;
+  TrackingStatus last_status_ = TrackingStatus::kInitializing;
+  RealtimeWait realtime_wait_;
+  FrameBacklog backlog_;
+  bool use_backlog_ = true;  // No latency target: frames wait in the backlog, not for a keyframe.
+  FeedRecord fed_;
+};
+
+}  // namespace dsm
