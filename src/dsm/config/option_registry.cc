@@ -102,6 +102,8 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
   Add(&e, "tracker.verified_reference", &o->tracker.verified_reference,
       "Track against the points whose observation in the keyframe the bundle adjustment verified (false: all that "
       "project).");
+  Add(&e, "tracker.max_fit_samples", &o->tracker.robust.max_fit_samples,
+      "The tracker's error model is fitted to at most this many residuals (evenly strided).");
   Add(&e, "candidates.target_count", &o->candidates.target_count, "Candidate points selected per keyframe.");
   Add(&e, "candidates.threshold_margin", &o->candidates.threshold_margin,
       "A candidate's gradient exceeds its block's median by this, grey levels.");
@@ -138,6 +140,8 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "N_c: covisible old keyframes of the window (--mode dsm).");
   Add(&e, "window.optimize_covisible_poses", &o->window.optimize_covisible_poses,
       "Optimise the covisible keyframes' poses, as the paper does (false: held, their points optimised).");
+  Add(&e, "window.depleted_distance_px", &o->window.depleted_distance_px,
+      "Covisible keyframes are chosen for the pixels this far (pixels) from every point the window projects.");
   Add(&e, "occlusion.enabled", &o->occlusion.enabled,
       "A point hidden behind nearer map points gets no observation in a new keyframe.");
   Add(&e, "occlusion.depth_ratio", &o->occlusion.depth_ratio,
@@ -157,6 +161,20 @@ std::vector<OptionEntry> Entries(SystemOptions* o) {
       "A keyframe's fitted error scale is bounded by this multiple of the problem's median (0: free).");
   Add(&e, "pba.refit_all_models", &o->pba.refit_all_models,
       "Refit every keyframe's error model in each adjustment (false: the newest only, as the original DSM).");
+  Add(&e, "pba.max_rotation_step", &o->pba.max_rotation_step,
+      "A level converges when the last step turns every pose by less than this (radians) ...");
+  Add(&e, "pba.max_translation_step", &o->pba.max_translation_step,
+      "... moves it by less than this (times the points' mean inverse depth) ...");
+  Add(&e, "pba.max_a_step", &o->pba.max_a_step, "... changes every brightness parameter a by less than this ...");
+  Add(&e, "pba.max_b_step", &o->pba.max_b_step, "... and every brightness offset b by less than this (grey levels).");
+  Add(&e, "pba.max_fit_samples", &o->pba.robust.max_fit_samples,
+      "The bundle adjustment's error models are fitted to at most this many residuals (evenly strided).");
+  Add(&e, "pba.texture_loss_min_host_variance", &o->pba.texture_loss.min_host_variance,
+      "Texture loss (system.texture_loss_min_noise): a point whose pattern varies less than this in its host "
+      "(grey levels^2) has no texture to lose ...");
+  Add(&e, "pba.texture_loss_max_depth_ratio", &o->pba.texture_loss.max_depth_ratio,
+      "... and a target that sees it at more than this ratio of the host's depth, or less than its inverse, is "
+      "not judged.");
   // The robust function applies to the bundle adjustment and the tracker alike.
   RobustOptions* pba = &o->pba.robust;
   RobustOptions* tracker = &o->tracker.robust;

@@ -64,7 +64,7 @@ TEST(OptionsYaml, PrintedOptionsReadBackTheSame) {
     ++keys;
     EXPECT_TRUE(std::regex_match(line, key_line)) << line;
   }
-  EXPECT_EQ(keys, 62);
+  EXPECT_EQ(keys, 71);
   EXPECT_EQ(sections, 13);
   SystemOptions back;
   back.pba.levels = 1;  // Overwritten by the text.

@@ -39,7 +39,7 @@ struct EpipolarOptions {
   static constexpr double min_search_px = 1.5;
   static constexpr double max_pixel_error = 10.0;        // Beyond this uncertainty a trace is a bad condition.
   static constexpr float max_energy = 12.f * 12.f * kPatternSize;  // Of the best match, else an outlier.
-  int gauss_newton_iterations = 3;
+  static constexpr int gauss_newton_iterations = 3;
 };
 
 struct Candidate {

@@ -48,7 +48,8 @@ struct PbaOptions {
   RobustOptions robust;
   static constexpr double drop_outlier_ratio = 0.3;  // After the PBA: > 30% bad pixels removes the observation.
   static constexpr double skip_outlier_ratio = 0.6;  // During it: > 60% bad pixels gives the observation weight 0.
-  // With texture_loss.max_variance_ratio > 0 (off by default), an observation whose target shows
+  // With texture_loss.max_variance_ratio > 0 (off by default; the system sets it on images as
+  // noisy as system.texture_loss_min_noise), an observation whose target shows
   // no trace of the host's texture (texture_loss.h) at the finest level is left out of the error
   // models' fit and removed after the PBA; it stays in the energy, so that a pattern that misses
   // its texture while the point's depth converges is still pulled into place.

@@ -115,8 +115,9 @@ std::string RobustKindName(RobustKind kind) {
 void RobustOptions::Validate() const {
   if (!(huber_threshold > 0)) throw InputError("robust.huber_threshold must be positive");
   if (!(inlier_quantile > 0.5 && inlier_quantile < 1.0)) throw InputError("robust.inlier_quantile must be in (0.5, 1)");
-  if (min_residuals < 10) throw InputError("robust.min_residuals must be at least 10");
-  if (max_fit_samples < min_residuals) throw InputError("robust.max_fit_samples must be >= robust.min_residuals");
+  if (max_fit_samples < min_residuals) {
+    throw InputError("max_fit_samples (pba., tracker.) must be at least " + std::to_string(min_residuals));
+  }
   if (!(gross_residual >= 10.0)) throw InputError("robust.gross_residual must be at least 10");
   if (!(min_nu >= 1.0 && min_nu <= 100.0)) throw InputError("robust.min_nu must be within 1..100");
 }

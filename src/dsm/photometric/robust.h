@@ -35,7 +35,7 @@ struct RobustOptions {
   double inlier_quantile = 0.95;  // Quantile of the fitted t that bounds inlier pixels.
   double gross_residual = 60.0;   // R: residuals beyond are outliers of any model (grey levels).
   double min_nu = 1.0;            // Lower bound of the fitted degrees of freedom.
-  int min_residuals = 100;        // Fewer residuals keep the default model.
+  static constexpr int min_residuals = 100;  // Fewer residuals keep the default model.
   int max_fit_samples = 3000;     // The fit uses at most this many residuals (evenly strided).
 
   void Validate() const;  // Throws InputError naming the option.

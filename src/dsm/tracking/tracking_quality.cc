@@ -33,8 +33,7 @@ void QualityOptions::Validate() const {
   if (!(max_relocalisation_residual_ratio >= max_residual_ratio))
     throw InputError("quality.max_residual_ratio must be at most the relocalisation's bound (6)");
   if (!(max_rotation_deg > 0.0 && max_rotation_deg <= 180.0)) throw InputError("quality.max_rotation_deg must be in (0, 180]");
-  if (history < 1) throw InputError("quality.history must be at least 1");
-  if (min_history < 1 || min_history > history) throw InputError("quality.min_history must be in [1, quality.history]");
+  if (history < min_history) throw InputError("quality.history must be at least " + std::to_string(min_history));
 }
 
 TrackingQuality::TrackingQuality(const QualityOptions& options) : options_(options) { options_.Validate(); }

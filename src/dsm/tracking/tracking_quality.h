@@ -68,7 +68,7 @@ struct QualityOptions {
   static constexpr double min_speed = 0.02;
   static constexpr double min_turn_deg = 2.5;
   int history = 20;
-  int min_history = 3;
+  static constexpr int min_history = 3;
 
   void Validate() const;
 };

@@ -58,7 +58,6 @@ TEST(TrackingQuality, JudgesAgainstTheRunningLevels) {
 TEST(TrackingQuality, JudgesFromTheSeedOfANewMap) {
   QualityOptions o;
   o.history = 20;
-  o.min_history = 3;
   TrackingQuality warming(o);
   warming.Trust(2.0, 10.0);
   warming.Trust(2.0, 10.0);
@@ -171,9 +170,7 @@ TEST(TrackingQuality, RejectsBadOptions) {
   o.history = 0;
   EXPECT_THROW(TrackingQuality{o}, InputError);
   o = QualityOptions();
-  o.min_history = o.history + 1;
-  EXPECT_THROW(TrackingQuality{o}, InputError);
-  o.min_history = 0;
+  o.history = QualityOptions::min_history - 1;
   EXPECT_THROW(TrackingQuality{o}, InputError);
 }
 
