@@ -49,9 +49,9 @@ std::unique_ptr<tbb::global_control> Workers(int workers) {
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, workers);
 }
 
-// The user's options with what the pace and the dataset decide.
-SystemOptions PacedOptions(const RunOptions& options, const Dataset& dataset) {
-  SystemOptions s = options.system;
+// How the pace, the viewer and the camera's calibration have the systems run.
+SystemSetup PacedSetup(const RunOptions& options, const Dataset& dataset) {
+  SystemSetup s;
   s.threaded = options.pace != Pace::kSequential;
   s.wait_for_mapping = options.pace != Pace::kRealtime;
   s.yield_adjustments = options.pace == Pace::kRealtime;
@@ -77,7 +77,7 @@ DatasetRun::DatasetRun(const Dataset& dataset, const RunOptions& options, fs::pa
       out_dir_(std::move(out_dir)),
       end_(CheckedEnd(dataset, options, out_dir_)),
       workers_(Workers(options.workers)),
-      system_options_(PacedOptions(options, dataset)),
+      setup_(PacedSetup(options, dataset)),
       undistorter_(FrameUndistorter(dataset, options.system)),
       progress_(options.quiet ? nullptr : stdout, isatty(fileno(stdout)) != 0, options.progress_interval_s),
       realtime_wait_(options.realtime_latency_target_ms),
@@ -135,7 +135,7 @@ DatasetRun::DatasetRun(const Dataset& dataset, const RunOptions& options, fs::pa
 }
 
 std::unique_ptr<System> DatasetRun::MakeSystem() {
-  auto system = std::make_unique<System>(undistorter_.output(), system_options_);
+  auto system = std::make_unique<System>(undistorter_.output(), options_.system, setup_);
   system->SetPoseListener([this](int, const SE3d&) {
     if (!first_posed_) first_posed_ = Clock::now();
   });

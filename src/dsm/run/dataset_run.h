@@ -81,7 +81,7 @@ class DatasetRun {
   const TimePoint wall0_ = Clock::now();
   const int end_;  // One past the last frame.
   const std::unique_ptr<tbb::global_control> workers_;  // RunOptions::workers, when set.
-  const SystemOptions system_options_;  // The user's, with what the pace decides.
+  const SystemSetup setup_;  // How the pace, the viewer and the calibration have the systems run.
   const Undistorter undistorter_;
   std::optional<DebugWriter> debug_;
   std::optional<LiveView> live_;

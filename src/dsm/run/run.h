@@ -34,7 +34,7 @@ std::string PaceName(Pace pace);
 Pace ParsePace(const std::string& name, const std::string& where);  // free | sequential | realtime
 
 struct RunOptions {
-  SystemOptions system;  // system.threaded is set from `pace`.
+  SystemOptions system;
   Pace pace = Pace::kFree;
   int workers = 0;  // Threads of the parallel loops (TBB) in each side; 0: one per core.
   int start = 0;   // First frame index.

@@ -20,7 +20,7 @@
 namespace dsm {
 
 // The map as a viewer shows it, taken by the mapping side with a tracking reference when
-// SystemOptions::map_snapshots is set; never changed after.
+// SystemSetup::map_snapshots is set; never changed after.
 struct MapSnapshot {
   std::vector<LivePoint> points;
   std::vector<SE3d> world_from_cam;  // Every keyframe's, in id order ...
@@ -59,7 +59,7 @@ struct TrackingReference {
   int map_points = 0;  // Live points of the map then.
   double texture = 0.0;  // The keyframe's (FrameSignature::texture).
   double scale = 1.0;    // The keyframe's scale then (System::KeyframeScale).
-  std::shared_ptr<const MapSnapshot> snapshot;  // With SystemOptions::map_snapshots.
+  std::shared_ptr<const MapSnapshot> snapshot;  // With SystemSetup::map_snapshots.
 };
 
 }  // namespace dsm

@@ -33,8 +33,11 @@ void LoopClosureOptions::Validate() const {
   if (min_inliers < 6) throw InputError("loop_closure.min_inliers must be at least 6");
 }
 
-void SystemOptions::Validate() const {
+void SystemSetup::Validate() const {
   if (!(line_delay_s >= 0.0 && line_delay_s < 1e-3)) throw InputError("the line delay must be within 0..1000 us");
+}
+
+void SystemOptions::Validate() const {
   if (pyramid_levels < 1 || pyramid_levels > 6) throw InputError("pyramid_levels must be within 1..6");
   if (max_initialization_frames < 5) throw InputError("max_initialization_frames must be at least 5");
   if (interpolation != "auto" && interpolation != "bilinear" && interpolation != "bspline")

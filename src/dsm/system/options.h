@@ -61,8 +61,9 @@ struct LoopClosureOptions {
   void Validate() const;
 };
 
-struct SystemOptions {
-  MapMode mode = MapMode::kFull;
+// How the caller runs a System (system.h): set from the run's pace (run/run.h), its viewer and
+// the camera's calibration, never by option files.
+struct SystemSetup {
   // The camera's rolling shutter: seconds between two rows' exposures, from its calibration
   // (line_delay_us); 0: a global shutter. Tracking predicts each point where the rolling shutter
   // saw it (ReadoutTurn), and the mapping side resamples each frame as a global shutter at its
@@ -93,6 +94,12 @@ struct SystemOptions {
   // Every tracking reference carries a MapSnapshot (system.h) for a live viewer: the mapping side
   // spends about a microsecond per live point on it per keyframe.
   bool map_snapshots = false;
+
+  void Validate() const;  // Throws InputError naming the setting.
+};
+
+struct SystemOptions {
+  MapMode mode = MapMode::kFull;
   int pyramid_levels = 5;          // Image pyramid (the undistorted size divides by 2^(levels-1)).
   int max_initialization_frames = 40;  // Frames on one initialiser reference before it restarts.
   // A keyframe's pyramid is released when no mapping step used it in the last this many keyframes

@@ -44,11 +44,13 @@ std::string TrackingStatusName(TrackingStatus status) {
   return "?";
 }
 
-System::System(const PinholeCamera& camera, const SystemOptions& options)
+System::System(const PinholeCamera& camera, const SystemOptions& options, const SystemSetup& setup)
     : camera_(camera),
       options_(options),
+      setup_(setup),
       min_activation_distance_px_(options.activation.initial_min_distance_px) {
   options_.Validate();
+  setup_.Validate();
   track_.quality = TrackingQuality(options.quality);
   if (options_.loop_closure.enabled && options_.mode == MapMode::kFull) {
     if (options_.loop_closure.vocabulary.empty()) {
@@ -70,7 +72,7 @@ System::System(const PinholeCamera& camera, const SystemOptions& options)
   }
   initializer_ = std::make_unique<Initializer>(options_.initializer);
   tracker_ = std::make_unique<FrameTracker>(options_.tracker);
-  if (options_.threaded) mapping_thread_ = std::make_unique<MappingThread>();
+  if (setup_.threaded) mapping_thread_ = std::make_unique<MappingThread>();
 }
 
 System::~System() = default;
@@ -136,7 +138,7 @@ System::FrameWork System::BeginFrame(int index, int64_t t_ns, const Image<float>
   // relocalisation the one made from the confirming frame: even a live camera waits for that, or
   // tracking would drift off the old keyframe meanwhile.
   const auto wait_start = std::chrono::steady_clock::now();
-  f.waited = (waits_.for_pending_keyframe && options_.wait_for_mapping) || waits_.for_confirming_keyframe;
+  f.waited = (waits_.for_pending_keyframe && setup_.wait_for_mapping) || waits_.for_confirming_keyframe;
   UpdateReference(f.waited);
   waits_.for_confirming_keyframe = false;
   f.report.wait_ms = MsSince(wait_start);
@@ -277,7 +279,7 @@ void System::HandToMappingSide(FrameWork* f) {
       waits_.for_confirming_keyframe = f->confirmed;
     }
   }
-  if (job.keyframe < 0 && options_.skip_traces_while_mapping && mapping_thread_ &&
+  if (job.keyframe < 0 && setup_.skip_traces_while_mapping && mapping_thread_ &&
       mapping_thread_->KeyframesPending() > 0) {
     ++stats_.traces_skipped;  // Its relocalisation count reaches the mapping side with the next job.
     return;
@@ -398,8 +400,8 @@ void System::Finish() {
 }
 
 ReadoutTurn System::Readout() const {
-  if (!(options_.line_delay_s > 0.0 && frame_interval_ns_ > 0.0 && HasTrustedFrame())) return {};
-  return {options_.line_delay_s, track_.velocity.So3().Log() / (frame_interval_ns_ * 1e-9)};
+  if (!(setup_.line_delay_s > 0.0 && frame_interval_ns_ > 0.0 && HasTrustedFrame())) return {};
+  return {setup_.line_delay_s, track_.velocity.So3().Log() / (frame_interval_ns_ * 1e-9)};
 }
 
 std::shared_ptr<const ImagePyramid> System::GlobalShutterPyramid(const ImagePyramid& pyramid,

@@ -12,13 +12,13 @@
 // gets the keyframe as its new reference; then the keyframe's own candidates are selected (the
 // tracking side goes on meanwhile: nothing it reads depends on them).
 //
-// With SystemOptions::threaded false (the default) the mapping work runs inside Process: every
+// With SystemSetup::threaded false (the default) the mapping work runs inside Process: every
 // keyframe is mapped before the next frame, and the output is deterministic. With it true the
 // mapping side runs on its own thread (mapping_thread.h); the two share nothing but the jobs
 // handed over (frame pyramid, pose relative to its reference keyframe, brightness) and the
 // published tracking reference (TrackingReference, an immutable snapshot). While a keyframe is
 // still being mapped the tracking side goes on against the older reference; when it wants another
-// keyframe meanwhile, it waits for the pending one first (SystemOptions::wait_for_mapping) or makes
+// keyframe meanwhile, it waits for the pending one first (SystemSetup::wait_for_mapping) or makes
 // it once the pending one is mapped: at most one keyframe is in flight.
 #pragma once
 
@@ -77,13 +77,13 @@ struct FrameReport {
 
 class System {
  public:
-  System(const PinholeCamera& camera, const SystemOptions& options);
+  System(const PinholeCamera& camera, const SystemOptions& options, const SystemSetup& setup = {});
   ~System();
 
   // `image`: undistorted (and photometrically corrected) frame of the camera's size.
   // `exposure_ms`: 0 when unknown. Returns once the frame is tracked (and, sequential, mapped).
   // `index` and `t_ns` increase from frame to frame (InputError otherwise, nothing changed).
-  // `wait_until` (threaded, SystemOptions::wait_for_mapping false): while a keyframe is still being
+  // `wait_until` (threaded, SystemSetup::wait_for_mapping false): while a keyframe is still being
   // mapped, the frame waits for it until then, so that it is tracked against the newest keyframe
   // as in the sequential run, but no later (the realtime pace's bound, run/realtime_wait.h).
   FrameReport Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
@@ -150,7 +150,7 @@ class System {
     int keyframes = 0, points = 0;
   };
   MapSize TrackedMapSize() const;
-  // Its MapSnapshot (null without SystemOptions::map_snapshots or before the map starts), and the
+  // Its MapSnapshot (null without SystemSetup::map_snapshots or before the map starts), and the
   // world_from_cam pose of the last tracked frame (none before the map starts); tracking side, as
   // TrackedMapSize.
   std::shared_ptr<const MapSnapshot> TrackedMapSnapshot() const;
@@ -404,7 +404,7 @@ class System {
   std::vector<int> HeldWithLoaded(std::vector<int> held) const;
   std::vector<int> AllKeyframes() const;  // 0 .. NumKeyframes() - 1 but the retired ones.
   // A young map's or loop bundle adjustment (AdjustYoungMap, AdjustLoop). Threaded
-  // (SystemOptions::yield_adjustments), it stops for a keyframe waiting to be mapped and is taken
+  // (SystemSetup::yield_adjustments), it stops for a keyframe waiting to be mapped and is taken
   // up after it, as another mapping job, and for a relocalisation waiting for the mapping side to
   // be idle, taken up after the next keyframe (parked_): a whole-map adjustment of the young map
   // takes about a second, which the next keyframe, and the frames tracked against the one before
@@ -486,6 +486,7 @@ class System {
 
   PinholeCamera camera_;
   SystemOptions options_;
+  SystemSetup setup_;
   // Mapping side (or the caller's thread before the map starts).
   Map map_;
   std::vector<int> window_;     // Temporal window, oldest first.
@@ -512,7 +513,7 @@ class System {
   int next_keyframe_ = 0;         // Id of the next keyframe the tracking side makes.
   int last_frame_keyframe_ = -1;  // The keyframe made from the last tracked frame, if any.
   // What the next frame waits for before it is tracked (threaded): the keyframe in flight, when
-  // this frame wanted to become a keyframe meanwhile (SystemOptions::wait_for_mapping), and the
+  // this frame wanted to become a keyframe meanwhile (SystemSetup::wait_for_mapping), and the
   // keyframe made from the frame that confirmed a relocalisation (always).
   struct PendingWaits {
     bool for_pending_keyframe = false;
@@ -542,7 +543,7 @@ class System {
   std::optional<Tentative> tentative_;  // Set in TrackingState::kConfirming.
   std::deque<Sighting> sightings_;      // Of the last lost frames (at most two), oldest first.
   // ORB features of the keyframes relocalisation ranked, computed on first use, or by the mapping
-  // side for every keyframe (SystemOptions::keyframe_features). Written by the mapping side only
+  // side for every keyframe (SystemSetup::keyframe_features). Written by the mapping side only
   // in its jobs, read and written by the tracking side only while lost, after the mapping side went
   // idle (Relocalise; nothing is handed to it while lost).
   std::map<int, OrbFeatures> keyframe_features_;

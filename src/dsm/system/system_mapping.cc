@@ -142,7 +142,7 @@ bool System::RunParked() {
 
 void System::Adjust(Adjustment a) {
   PbaYield yield;
-  if (mapping_thread_ && options_.yield_adjustments) {
+  if (mapping_thread_ && setup_.yield_adjustments) {
     yield.now = [this] { return mapping_thread_->KeyframesPending() > 0 || mapping_thread_->Urgent(); };
   }
   yield.level = a.level;
@@ -277,7 +277,7 @@ void System::FinishKeyframe(int kf) {
   }
   if (DetectAndCloseLoop(kf)) adjusted = true;
   if (adjusted) PublishTrackingReference();
-  if (options_.keyframe_features && mapping_thread_) KeyframeFeatures(kf);
+  if (setup_.keyframe_features && mapping_thread_) KeyframeFeatures(kf);
   // Keyframes keep their pyramids while a recent mapping step used them.
   map_.ReleaseUnusedPyramids(options_.keep_pyramid_keyframes);
   stats_.pyramids_loaded_max = std::max(stats_.pyramids_loaded_max, map_.NumLoadedPyramids());
@@ -505,7 +505,7 @@ std::shared_ptr<const TrackingReference> System::MakeReference(
   ref->map_points = map_.NumLivePoints();
   ref->texture = map_.keyframe(kf).signature.texture;
   ref->scale = KeyframeScale(kf);
-  if (options_.map_snapshots) {
+  if (setup_.map_snapshots) {
     auto snapshot = std::make_shared<MapSnapshot>();
     snapshot->points = LivePoints(map_, camera_);
     for (int k = 0; k < map_.NumKeyframes(); ++k) {

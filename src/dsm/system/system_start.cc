@@ -68,10 +68,10 @@ void System::StartMap(const InitResult& init) {
   stats_.initialization = init.planar ? "planar" : "two-view";
   PendingFrame& first = pending_.front();
   PendingFrame& last = pending_.back();
-  if (options_.line_delay_s > 0.0 && last.t_ns > first.t_ns) {
+  if (setup_.line_delay_s > 0.0 && last.t_ns > first.t_ns) {
     // A rolling shutter: the two keyframes are resampled as global shutters at their timestamps
     // would have seen them, the camera turning at the rate between them.
-    const ReadoutTurn turn{options_.line_delay_s, init.current_from_reference.So3().Log() /
+    const ReadoutTurn turn{setup_.line_delay_s, init.current_from_reference.So3().Log() /
                                                       ((last.t_ns - first.t_ns) * 1e-9)};
     for (PendingFrame* p : {&first, &last}) p->pyramid = GlobalShutterPyramid(*p->pyramid, turn);
   }

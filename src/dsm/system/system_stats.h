@@ -83,7 +83,7 @@ struct SystemStats {
   // Young map's and loop adjustments that stopped for a keyframe waiting to be mapped or a
   // relocalisation (taken up after it; System::Adjust).
   int adjustments_yielded = 0;
-  // Frames whose candidate tracing was skipped (SystemOptions::skip_traces_while_mapping).
+  // Frames whose candidate tracing was skipped (SystemSetup::skip_traces_while_mapping).
   int traces_skipped = 0;
   // Trackings redone with the brightness held: the contrast changed more than exposure can
   // (TrackerOptions::max_alpha_step).
