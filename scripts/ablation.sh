@@ -29,8 +29,9 @@
 #            error model fitted without the bound on its scale), newest-model (only the newest keyframe's error model is fitted, to the
 #            residuals of points hosted by free keyframes, as the original DSM:
 #            pba.refit_all_models false), no-young-ba (without the whole young map's bundle
-#            adjustments at 10, 20 and 40 keyframes: system.young_map_ba_last 0), loop-ba (the keyframes of a loop adjusted when
-#            the covisible keyframes reach 20 keyframes back: system.loop_ba_min_gap 20), no-culling
+#            adjustments at 10, 20 and 40 keyframes: system.young_map_ba_last 0), no-loop-ba (without the
+#            adjustment of a loop's keyframes when the covisible keyframes reach 20 keyframes back:
+#            system.loop_ba_min_gap 0), no-culling
 #            (every keyframe stays: system.keyframe_culling false), no-loop-closure (places seen before
 #            are not recognised: --no-loop-closure), global-shutter (a rolling shutter's frames taken
 #            for a global shutter's: --line-delay-us 0)
@@ -58,7 +59,7 @@ REUSE=0
 SEEDS="1"
 STARTS="0"
 SEQUENCES="loop shake forward rotation exposure orbit pan euroc room"
-CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba no-occlusion all-reference no-noise-floor no-contrast-floor bilinear no-texture-loss free-sigma newest-model no-young-ba loop-ba"
+CONFIGS="dsm sw sw-short nc3 nc1 nt3 nt6 levels1 levels3 huber huber-mad move-covisible global-ba no-occlusion all-reference no-noise-floor no-contrast-floor bilinear no-texture-loss free-sigma newest-model no-young-ba no-loop-ba"
 WORK="ablation_out"
 while (($#)); do
   case "$1" in
@@ -94,7 +95,7 @@ printf 'system:\n  texture_loss_min_noise: 0\n' > "$WORK/no-texture-loss.yaml"
 printf 'pba:\n  max_sigma_ratio: 0\n' > "$WORK/free-sigma.yaml"
 printf 'pba:\n  refit_all_models: false\n' > "$WORK/newest-model.yaml"
 printf 'system:\n  young_map_ba_last: 0\n' > "$WORK/no-young-ba.yaml"
-printf 'system:\n  loop_ba_min_gap: 20\n' > "$WORK/loop-ba.yaml"
+printf 'system:\n  loop_ba_min_gap: 0\n' > "$WORK/no-loop-ba.yaml"
 printf 'system:\n  keyframe_culling: false\n' > "$WORK/no-culling.yaml"
 
 args_for() {
@@ -110,7 +111,7 @@ args_for() {
     levels3) echo "--pba-levels 3" ;;
     huber) echo "--robust huber" ;;
     huber-mad) echo "--robust huber-mad" ;;
-    move-covisible | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | no-texture-loss | free-sigma | newest-model | no-young-ba | loop-ba | no-culling) echo "--config $WORK/$1.yaml" ;;
+    move-covisible | no-occlusion | all-reference | no-noise-floor | no-contrast-floor | bilinear | no-texture-loss | free-sigma | newest-model | no-young-ba | no-loop-ba | no-culling) echo "--config $WORK/$1.yaml" ;;
     global-ba) echo "--global-ba" ;;
     no-loop-closure) echo "--no-loop-closure" ;;
     global-shutter) echo "--line-delay-us 0" ;;

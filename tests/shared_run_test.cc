@@ -5,11 +5,10 @@
 //   Path-traced room walk (blender_room_s3), from five start frames: every frame after the start
 //   tracked, the medians DSM <= 1.15 mm and below DSM-SW, DSM-SW <= 2 mm (its window: N_t + N_c
 //   temporal keyframes), after a final global bundle adjustment <= 1 mm and below DSM's, and the
-//   map adjusted from the true poses (--truth-ba) <= 1 mm from them. Before occlusions were
-//   handled DSM's scale collapsed there as a pillar passed close to the camera (1066 mm); before
-//   the young map's bundle adjustments its scale drifted (3.64 mm); before the candidates'
-//   contrast floor its points on faint texture biased the map (1.83 mm, DSM-SW 5.89, from frame
-//   0); with bilinear residuals the render noise biased it (medians 1.27, 2.22, 0.97, 1.01).
+//   map adjusted from the true poses (--truth-ba) <= 1 mm from them. The room is where a pillar
+//   passes close to the camera (the occlusion test), the young map's scale drifts without its
+//   bundle adjustments, points on faint texture bias the map (the candidates' contrast floor) and
+//   the render noise biases bilinear residuals (the B-spline).
 //   EuRoC frames with defects spliced in (15 black frames, 15 of noise, a corrupt file and a hand
 //   over the lens for 41 frames): no black or noise frame, nor one the hand covers for three
 //   quarters or more, is tracked, and none of them nor a half-covered one becomes a keyframe;
@@ -80,14 +79,10 @@ TEST(SharedRun, EurocMeetsTheAccuracyTargets) {
 // one run is one draw of a chaotic system (its keyframe ATE ranges 0.8-2.2 mm with the start
 // alone), the median of five is not. DSM's runs also bundle-adjust the whole map at the end
 // (--global-ba) and adjust it again from the true poses (--truth-ba); the ATE before the global
-// adjustment is that of a plain run. Measured medians: DSM 0.95 mm, DSM-SW 1.62, after the global
-// adjustment 0.84, from the true poses 0.88 (DSM 0.90, 0.83, 0.86 before the texture-loss test
-// judged the fits on noisy images, whose run from frame 0 was 2.21 mm, now 0.94); with bilinear
-// residuals 1.27, 2.22, 0.97, 1.01. The young map's bundle adjustments
+// adjustment is that of a plain run. The young map's bundle adjustments
 // (SystemOptions::young_map_ba_last) at 10, 20 and 40 keyframes keep the walk's scale from
-// drifting (3.64 mm without them). The room's render noise (4.7 grey
-// levels) turns the candidates' contrast floor, the B-spline residuals and (DSM only) the
-// texture-loss test in the fits on.
+// drifting. The room's render noise (4.7 grey levels) turns the candidates' contrast floor, the
+// B-spline residuals and (DSM only) the texture-loss test in the fits on.
 TEST(SharedRun, RoomWalkKeepsItsScale) {
   const Dataset dataset = OpenDataset(testing::SharedDataDir() / "blender_room_s3");
   std::vector<double> dsm, sw, global, truth;

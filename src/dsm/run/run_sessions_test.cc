@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Two sessions in one place through a map file (RunOptions::save_map, RunOptions::load_map):
 // `loop` (a furnished room walked around twice, rendered at 320x240) split at its half. Session 1,
-// the first lap, is saved (adjusted whole first: 0.52 mm, 1.52 before). Session 2, the second lap,
+// the first lap, is saved (adjusted whole first). Session 2, the second lap,
 // loads it: it relocalises in the loaded map within 3 frames of its start, writes only its own
 // keyframes, and they lie in session 1's frame and scale: scored with session 1's Sim(3) alignment
-// (none of their own), their ATE is within 1.5x that of one run over both laps (1.51 mm; session 2
-// 0.51 mm). It re-uses the map: its points added are under a quarter of those session 1 made, and
+// (none of their own), their ATE is within 1.5x that of one run over both laps. It re-uses the map: its points added are under a quarter of those session 1 made, and
 // its keyframes of places lap 1 mapped are culled. The loaded keyframes stay where the file has them. A map file read and written again is the same
 // file, and session 2 run twice writes the same file (sequential). Session 2 localising in the map
-// instead (RunOptions::localize: 0.50 mm) leaves it byte for byte as loaded. The report tells the
+// instead (RunOptions::localize) leaves it byte for byte as loaded. The report tells the
 // loaded map's points from the added ones. A map of another camera is refused, naming the file.
 #include <fstream>
 #include <sstream>

@@ -134,9 +134,13 @@ struct SystemOptions {
   // covisible ones and all before held, with loop_ba_max_iterations LM iterations per level (0:
   // as pba.max_iterations); at most once every loop_ba_min_gap keyframes, after the keyframe is
   // published (System::FinishKeyframe; it is then published again). The window alone moves only
-  // its own keyframes onto the old map, and what drifted over the loop stays. Off (0) by default:
-  // each costs from a fraction of a second to several seconds.
-  int loop_ba_min_gap = 0;
+  // its own keyframes onto the old map, and what drifted over the loop stays. Not when the camera
+  // has stayed within loop_ba_min_reach scene depths (the inverse of the mean inverse depth of
+  // the window's points) of the oldest covisible keyframe since: a camera turning in place sees its
+  // old keyframes again without a loop, and freeing keyframes on baselines that short leaves
+  // their depths and scale loose. 0: never.
+  int loop_ba_min_gap = 20;
+  static constexpr double loop_ba_min_reach = 0.5;
   // The same adjustment once after a relocalisation, at the first keyframe whose covisible
   // keyframes reach this many back (0: never). The part mapped after a loss joins the part before
   // through one relocalised pose, and the two disagree where the camera comes back. From then on

@@ -182,6 +182,29 @@ void System::Adjust(Adjustment a) {
       false);
 }
 
+namespace {
+
+// How far the camera went from keyframe `from` over the keyframes after it up to `to`, in scene
+// depths: the largest distance of their centres from `from`'s times the mean inverse depth of the
+// points hosted by the keyframes `window` (0 when they host none).
+double ReachInDepths(const Map& map, int from, int to, const std::vector<int>& window) {
+  double idepth = 0.0;
+  int n = 0;
+  for (int k : window)
+    for (int pid : map.keyframe(k).points) {
+      const Point& p = map.point(pid);
+      if (!p.removed) idepth += p.idepth, ++n;
+    }
+  if (n == 0) return 0.0;
+  const Eigen::Vector3d origin = map.keyframe(from).Centre();
+  double reach = 0.0;
+  for (int k = from + 1; k <= to; ++k)
+    if (!map.keyframe(k).retired) reach = std::max(reach, (map.keyframe(k).Centre() - origin).norm());
+  return reach * idepth / n;
+}
+
+}  // namespace
+
 bool System::AdjustLoop(int newest) {
   if (options_.mode != MapMode::kFull || covisible_.empty()) return false;
   const int oldest = *std::min_element(covisible_.begin(), covisible_.end());
@@ -192,7 +215,9 @@ bool System::AdjustLoop(int newest) {
   // single adjustment as the lap closes does not bring it back. So such a map is adjusted
   // periodically, every loop_ba_after_relocalisation keyframes.
   const int gap = options_.loop_ba_min_gap > 0 ? options_.loop_ba_min_gap : relocalisations_mapped_ > 0 ? after_loss : 0;
-  const bool periodic = gap > 0 && newest - oldest >= gap && (last_loop_ba_ < 0 || newest - last_loop_ba_ >= gap);
+  // A map without relocalisations is adjusted only where the camera went away and came back.
+  const bool periodic = gap > 0 && newest - oldest >= gap && (last_loop_ba_ < 0 || newest - last_loop_ba_ >= gap) &&
+                        (relocalisations_mapped_ > 0 || ReachInDepths(map_, oldest, newest, window_) >= options_.loop_ba_min_reach);
   const bool relocalised = loop_ba_pending_ && after_loss > 0 && newest - oldest >= after_loss;
   if (!periodic && !relocalised) return false;
   loop_ba_pending_ = false;
