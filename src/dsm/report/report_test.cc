@@ -86,7 +86,7 @@ TEST(Report, DataFromTheRunFolder) {
   EXPECT_EQ(d["loops_closed"][0]["candidate_keyframe"], 0);
 }
 
-// A map merged into another (run/map_set.h) has no folder: it is left out of the maps drawn, and
+// A map merged into another (system/atlas.h) has no folder: it is left out of the maps drawn, and
 // its keyframe rows (listed after the map's own) are not given to the map before it.
 TEST(Report, AMergedMapIsDrawnWithTheMapThatTookItIn) {
   const fs::path dir = FakeRun("report_merged");

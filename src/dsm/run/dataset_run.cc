@@ -126,7 +126,7 @@ DatasetRun::DatasetRun(const Dataset& dataset, const RunOptions& options, fs::pa
     prefetch_.emplace(dataset, end_);
   }
   maps_.emplace([this] { return MakeSystem(); },
-                [this](int id, System& system, const MapSet::Spans& spans, int merged_into) {
+                [this](int id, System& system, const Atlas::Spans& spans, int merged_into) {
                   EndMap(id, system, spans, merged_into);
                 },
                 std::move(loaded));
@@ -142,7 +142,7 @@ std::unique_ptr<System> DatasetRun::MakeSystem() {
   return system;
 }
 
-void DatasetRun::EndMap(int id, System& system, const MapSet::Spans& spans, int merged_into) {
+void DatasetRun::EndMap(int id, System& system, const Atlas::Spans& spans, int merged_into) {
   if (ended_.size() <= static_cast<size_t>(id)) ended_.resize(id + 1);
   if (merged_into >= 0) {
     // Its keyframes, points and frames are the other map's now: only its counts stay.
@@ -170,7 +170,7 @@ DatasetRun::TimePoint DatasetRun::ReleaseTime(int i) const {
   return process0_ + std::chrono::nanoseconds(dataset_.frames[i].t_ns - dataset_.frames[options_.start].t_ns);
 }
 
-void DatasetRun::Settle(const MapSet::Settled& s) {
+void DatasetRun::Settle(const Atlas::Settled& s) {
   const FrameReport& r = s.report;
   const int i = r.index;
   if (debug_) debug_->AddFrame(r, s.map);
@@ -208,14 +208,14 @@ void DatasetRun::Settle(const MapSet::Settled& s) {
 void DatasetRun::Take(int i, const Image<float>& image, TimePoint released, std::optional<TimePoint> taken,
                       std::optional<TimePoint> wait_until, std::optional<TimePoint> first_pose) {
   first_posed_ = first_pose;
-  const std::vector<MapSet::Settled> settled =
+  const std::vector<Atlas::Settled> settled =
       maps_->Process(i, dataset_.frames[i].t_ns, image, dataset_.frames[i].exposure_ms, wait_until);
   const auto posed = Clock::now();
   using Ms = std::chrono::duration<double, std::milli>;
   fed_.latency_ms.push_back(Ms(first_posed_.value_or(posed) - released).count());
   fed_.latency_final_ms.push_back(Ms(posed - released).count());
   const FrameReport* r = nullptr;  // This frame's, when settled now.
-  for (const MapSet::Settled& st : settled)
+  for (const Atlas::Settled& st : settled)
     if (st.report.index == i) r = &st.report;
   if (first_pose || (r && r->posed_before_wait)) ++fed_.posed_before_wait;
   if (taken) {
@@ -224,10 +224,10 @@ void DatasetRun::Take(int i, const Image<float>& image, TimePoint released, std:
     // The target bounds the waits: the kept pose's latency.
     realtime_wait_.Record(fed_.latency_final_ms.back(), busy, Ms(first_posed_.value_or(posed) - *taken).count());
   }
-  for (const MapSet::Settled& st : settled) Settle(st);
+  for (const Atlas::Settled& st : settled) Settle(st);
   if (maps_->current().NeedsNewMap() && i + 1 < end_) {
     // Relocalisation keeps failing: the camera is somewhere new. Another map starts with the
-    // next frames; this one is suspended, and resumes if the camera comes back (map_set.h).
+    // next frames; this one is suspended, and resumes if the camera comes back (atlas.h).
     maps_->StartNewMap();
     progress_.Event("frame " + std::to_string(i) + "  new map " + std::to_string(maps_->current_id()) +
                     " (relocalisation kept failing)");
@@ -332,7 +332,7 @@ std::string DatasetRun::SaveMapFile(RunSummary* summary) {
 
 RunSummary DatasetRun::Finish() {
   Drain(std::nullopt);
-  for (const MapSet::Settled& st : maps_->Flush()) Settle(st);
+  for (const Atlas::Settled& st : maps_->Flush()) Settle(st);
   progress_.Finish();
   maps_->current().Finish();
   if (live_) live_->Finish(maps_->current(), fed_.per_frame);

@@ -3,7 +3,7 @@
 //
 // FeedFrames takes the frames in order. Each is released (realtime: at its recorded time; the
 // frames that came while tracking was busy are dropped, as by a camera driver with a one-frame
-// buffer), read (free, sequential: ahead, on the reader's thread), handed to the maps (map_set.h)
+// buffer), read (free, sequential: ahead, on the reader's thread), handed to the maps (atlas.h)
 // and settled: its events, diagnostics, progress and live view. In the realtime pace a frame that
 // comes while the mapping side is busy is told a first pose at once and waits in the backlog
 // (frame_backlog.h), or waits for the keyframe being mapped up to a latency target
@@ -31,7 +31,7 @@
 #include "dsm/run/frame_reader.h"
 #include "dsm/run/live_view.h"
 #include "dsm/run/map_run.h"
-#include "dsm/run/map_set.h"
+#include "dsm/system/atlas.h"
 #include "dsm/run/progress.h"
 #include "dsm/run/realtime_wait.h"
 #include "dsm/run/run.h"
@@ -58,15 +58,15 @@ class DatasetRun {
   using TimePoint = Clock::time_point;
 
   std::unique_ptr<System> MakeSystem();
-  // MapSet's Closer: writes map `id`'s outputs (map_run.h) and keeps what --save-map stores.
-  void EndMap(int id, System& system, const MapSet::Spans& spans, int merged_into);
+  // Atlas's Closer: writes map `id`'s outputs (map_run.h) and keeps what --save-map stores.
+  void EndMap(int id, System& system, const Atlas::Spans& spans, int merged_into);
   // Realtime: when frame i is released, as a camera would deliver it.
   TimePoint ReleaseTime(int i) const;
   // Frame i handed to the maps, its latencies and events; `first_pose` told before (Preview).
   void Take(int i, const Image<float>& image, TimePoint released, std::optional<TimePoint> taken,
             std::optional<TimePoint> wait_until, std::optional<TimePoint> first_pose);
   // A frame settled in map `s.map`: its events, diagnostics and progress.
-  void Settle(const MapSet::Settled& s);
+  void Settle(const Atlas::Settled& s);
   // Realtime: the waiting frames in order, each once the mapping side has settled, until
   // `deadline` (none: all of them, the run ended); one that waited too long at once.
   void Drain(std::optional<TimePoint> deadline);
@@ -92,7 +92,7 @@ class DatasetRun {
   std::string loaded_options_;  // The options that made the loaded maps.
   int loaded_maps_ = 0;
   nlohmann::json map_loaded_;  // stats.json's "map_loaded" (null: no map file).
-  std::optional<MapSet> maps_;
+  std::optional<Atlas> maps_;
 
   TimePoint process0_;  // The first frame's release.
   std::optional<FrameReader> reader_;  // Free and sequential paces.

@@ -46,7 +46,7 @@ void WriteJson(const fs::path& path, const nlohmann::json& j) {
 // Ends a map: waits for its mapping, runs the global BA when asked, writes its trajectories (and,
 // with write_map, its points and keyframes as PLY); then, given `truth` (RunOptions::truth_ba),
 // adjusts the map from the true poses (keyframes_truth_ba.tum).
-MapRun CloseMap(System& system, const fs::path& dir, const MapSet::Spans& spans, bool global_ba,
+MapRun CloseMap(System& system, const fs::path& dir, const Atlas::Spans& spans, bool global_ba,
                 const PinholeCamera& camera, bool write_map, const Trajectory* truth) {
   system.Finish();
   MapRun m;
@@ -124,7 +124,7 @@ SystemStats Combined(const std::vector<MapRun>& maps) {
   const auto append = [](auto* to, const auto& from) { to->insert(to->end(), from.begin(), from.end()); };
   for (size_t i = 1; i < maps.size(); ++i) {
     const SystemStats& s = maps[i].stats;
-    // A map taken in by the first one (map_set.h) started the run's map before it.
+    // A map taken in by the first one (atlas.h) started the run's map before it.
     if (maps[i].merged_into == 0 && s.initialized_at_frame >= 0 &&
         (all.initialized_at_frame < 0 || s.initialized_at_frame < all.initialized_at_frame)) {
       all.initialized_at_frame = s.initialized_at_frame;

@@ -375,7 +375,7 @@ TEST(Relocalisation, AYoungMapIsGivenUpSooner) {
 // The camera leaves for the corridor and comes back: 100 frames of `loop`, 90 of `forward`, then
 // `loop` again from frame 100. The first map is suspended while the second is made, not ended:
 // the lost frames of the second are tried against it, and it takes the frames from the return on
-// (map_set.h), where a third map would otherwise start.
+// (atlas.h), where a third map would otherwise start.
 TEST(Relocalisation, ReturnResumesTheFirstMap) {
   const fs::path room = Render("loop", 200, "", "return_room"), corridor = Render("forward", 90, "", "return_corridor");
   const Dataset a = OpenDataset(room), b = OpenDataset(corridor);
@@ -419,7 +419,7 @@ TEST(Relocalisation, ReturnResumesTheFirstMap) {
 // the camera reappears 5.6 m further down the corridor, beyond the map, then walks back to the
 // start. Relocalisation keeps failing and a second map starts; a run that ends before the return
 // keeps the two maps apart, each evaluated on its own. On the way back the second map recognises
-// the first one's keyframes and takes it in (map_set.h, System::MergeVerified): one map, under the
+// the first one's keyframes and takes it in (atlas.h, System::MergeVerified): one map, under the
 // first map's folder, with both parts' keyframes and frames in time order, evaluated as one
 // trajectory. The corridor's textures are turned (synth::Texture::turned): with the default ones,
 // which repeat every 2 m along it, frames 61-63 relocalised 1.5 m behind the last trusted pose

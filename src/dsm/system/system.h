@@ -160,7 +160,7 @@ class System {
   // somewhere the map does not cover, and the caller starts a new map (a new System).
   bool NeedsNewMap() const;
   // A map that has tracked at most relocalisation.young_map_frames frames: one the run gives up
-  // for a loaded map the camera turns out to be in (run/map_set.h).
+  // for a loaded map the camera turns out to be in (system/atlas.h).
   bool Young() const { return stats_.frames_tracked <= options_.relocalisation.young_map_frames; }
   // The caller started a new map (NeedsNewMap) and keeps this one: frames are still tried against
   // it (Process, relocalisation only) but count in it from the relocalisation the next frame
@@ -177,7 +177,7 @@ class System {
   // verification (system_loop.cc) against their keyframes, on this map's mapping side. `id`: the
   // caller's name of each. The mapping side reads them while this map tracks: the caller leaves
   // them untouched meanwhile and finishes this map's mapping side (Finish) before it uses one of
-  // them itself (run/map_set.h). Set while the mapping side is idle.
+  // them itself (system/atlas.h). Set while the mapping side is idle.
   void SetMergeSources(const std::vector<std::pair<int, System*>>& sources);
   // The id of the source a keyframe recognised and verified, waiting to be merged (-1: none); read
   // without waiting for the mapping side.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Map merging: a map started after a loss (run/map_set.h) recognises a place of an earlier map of
+// Map merging: a map started after a loss (system/atlas.h) recognises a place of an earlier map of
 // the run and takes that map in, so that the run ends with one map and one trajectory.
 //
 // Detection and verification are the loop's (system_loop.cc: DetectMerge), against the other

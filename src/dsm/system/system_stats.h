@@ -114,7 +114,7 @@ struct SystemStats {
   struct MapMerge {
     int frame = -1;                     // Input frame of the keyframe that recognised the other map ...
     int keyframe = -1, candidate = -1;  // ... its id, and the other map's keyframe (its id here).
-    int map = -1;                       // The map taken in (run/map_set.h's id for it).
+    int map = -1;                       // The map taken in (system/atlas.h's id for it).
     int keyframes = 0, points = 0;      // Taken from it (live points).
     int inliers = 0;                    // Sim(3) RANSAC inliers.
     double scale = 1.0;                 // Of the other map's geometry here.

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The maps of a run and which one takes each frame.
+// The Atlas: every map of a run (the current one, those set aside, those merged into another and
+// those loaded from a map file) and which one takes each frame, for the command line's run
+// (run/dataset_run.h) and the Python System alike.
 //
 // The current map takes the frames. When relocalisation keeps failing in it (System::NeedsNewMap)
 // a new map starts and the old one is suspended (System::Suspend), not ended: while the current
@@ -35,7 +37,7 @@
 
 namespace dsm {
 
-class MapSet {
+class Atlas {
  public:
   // Spans of frames (first, last) a map took, in order.
   using Spans = std::vector<std::pair<int, int>>;
@@ -47,7 +49,7 @@ class MapSet {
   using Closer = std::function<void(int id, System& system, const Spans& spans, int merged_into)>;
   // `loaded`: maps taken up from a map file (ids 0, 1, ...), suspended; the first new map takes
   // the next id.
-  MapSet(Factory make, Closer close, std::vector<std::unique_ptr<System>> loaded = {});
+  Atlas(Factory make, Closer close, std::vector<std::unique_ptr<System>> loaded = {});
 
   // A frame the run settled: its report and the map it belongs to.
   struct Settled {

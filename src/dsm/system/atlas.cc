@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "dsm/run/map_set.h"
+#include "dsm/system/atlas.h"
 
 #include <algorithm>
 
 namespace dsm {
 
-MapSet::MapSet(Factory make, Closer close, std::vector<std::unique_ptr<System>> loaded)
+Atlas::Atlas(Factory make, Closer close, std::vector<std::unique_ptr<System>> loaded)
     : make_(std::move(make)), close_(std::move(close)) {
   for (std::unique_ptr<System>& system : loaded) {
     Entry e;
@@ -17,14 +17,14 @@ MapSet::MapSet(Factory make, Closer close, std::vector<std::unique_ptr<System>> 
   current_ = NewEntry();
 }
 
-void MapSet::SetMergeSources() {
+void Atlas::SetMergeSources() {
   std::vector<std::pair<int, System*>> sources;
   for (Entry& e : suspended_)
     if (e.id >= loaded_) sources.emplace_back(e.id, e.system.get());
   current_.system->SetMergeSources(sources);
 }
 
-void MapSet::MergeIfReady() {
+void Atlas::MergeIfReady() {
   const int source = current_.system->MergeReady();
   if (source < 0 || waiting_) return;
   const auto it = std::find_if(suspended_.begin(), suspended_.end(), [&](const Entry& e) { return e.id == source; });
@@ -40,12 +40,12 @@ void MapSet::MergeIfReady() {
   SetMergeSources();
 }
 
-bool MapSet::TrySuspended() const {
+bool Atlas::TrySuspended() const {
   if (current_status_ != TrackingStatus::kOk) return true;
   return loaded_ > 0 && !in_loaded_map_ && current_.system->Young();
 }
 
-MapSet::Entry MapSet::NewEntry() {
+Atlas::Entry Atlas::NewEntry() {
   Entry e;
   e.id = next_id_++;
   e.system = make_();
@@ -53,13 +53,13 @@ MapSet::Entry MapSet::NewEntry() {
   return e;
 }
 
-void MapSet::Note(Entry* e, int index) {
+void Atlas::Note(Entry* e, int index) {
   if (e->spans.empty() || !e->open) e->spans.emplace_back(index, index);
   e->spans.back().second = index;
   e->open = true;
 }
 
-MapSet::Settled MapSet::TakeCurrent(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
+Atlas::Settled Atlas::TakeCurrent(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
                                     std::optional<std::chrono::steady_clock::time_point> wait_until) {
   Settled s{current_.system->Process(index, t_ns, image, exposure_ms, wait_until), current_.id};
   current_status_ = s.report.status;
@@ -67,7 +67,7 @@ MapSet::Settled MapSet::TakeCurrent(int index, int64_t t_ns, const Image<float>&
   return s;
 }
 
-std::vector<MapSet::Settled> MapSet::Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
+std::vector<Atlas::Settled> Atlas::Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
                                              std::optional<std::chrono::steady_clock::time_point> wait_until) {
   std::vector<Settled> out;
   if (waiting_) {
@@ -117,7 +117,7 @@ std::vector<MapSet::Settled> MapSet::Process(int index, int64_t t_ns, const Imag
   return out;
 }
 
-std::vector<MapSet::Settled> MapSet::Flush() {
+std::vector<Atlas::Settled> Atlas::Flush() {
   std::vector<Settled> out;
   if (!waiting_) return out;
   Waiting w = std::move(*waiting_);
@@ -127,7 +127,7 @@ std::vector<MapSet::Settled> MapSet::Flush() {
   return out;
 }
 
-void MapSet::StartNewMap() {
+void Atlas::StartNewMap() {
   current_.system->Finish();  // Its mapping side is idle from here on (System::Suspend).
   current_.system->Suspend();
   current_.open = false;
@@ -137,7 +137,7 @@ void MapSet::StartNewMap() {
   SetMergeSources();
 }
 
-void MapSet::Close() {
+void Atlas::Close() {
   std::vector<Entry*> all = {&current_};
   for (Entry& e : suspended_) all.push_back(&e);
   for (Entry& e : merged_) all.push_back(&e);
