@@ -2,11 +2,14 @@
 // Python bindings (pybind11): `import dsm`.
 //   dsm.run(dataset, out="dsm_out", **options) -> dict        as `dsm run`; returns stats.json
 //   dsm.read_dataset(path) -> Dataset                          frames ready for System.process
-//   dsm.System(camera, options=None)                           the system facade, sequential
-//       .process(t_ns, image) -> dict, .finish(), .keyframe_trajectory(), .frame_trajectory(),
-//       .map_points()
+//   dsm.System(camera, options=None, map=None, localize=False) the system facade, sequential, with
+//       its maps as `dsm run` has them (system/atlas.h): .process(t_ns, image) -> dict, .finish(),
+//       .keyframe_trajectory(map=0), .frame_trajectory(map=0), .map_points(map=0), .save_map(path)
 // Trajectories are (N, 8) float64 arrays of t (seconds) x y z qx qy qz qw (world_from_cam); map
 // points (N, 3) float64. Bad input raises dsm.InputError (a ValueError) with dsm's message.
+#include <map>
+#include <optional>
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -20,6 +23,7 @@
 #include "dsm/mapping/map_points.h"
 #include "dsm/run/frame_reader.h"
 #include "dsm/run/run.h"
+#include "dsm/system/atlas.h"
 #include "dsm/system/system.h"
 #include "dsm/util/check.h"
 #include "dsm/util/version.h"
@@ -126,24 +130,35 @@ struct PyMap {
   }
 };
 
-// The system facade, one thread (each keyframe mapped before process returns: deterministic).
+// The system facade, one thread (each keyframe mapped before process returns: deterministic), over
+// an Atlas (system/atlas.h) as `dsm run` is: after a loss that relocalisation cannot end a new map
+// starts, the camera returns into a map it left, and a map that recognises another takes it in.
 class PySystem {
  public:
   PySystem(const py::dict& camera, const py::object& options, const py::object& map, bool localize)
-      : camera_(CameraFrom(camera)), system_(camera_, OptionsFrom(options)) {
-    options_yaml_ = OptionsYaml(OptionsFrom(options));
+      : camera_(CameraFrom(camera)), options_(OptionsFrom(options)), localize_(localize) {
+    options_yaml_ = OptionsYaml(options_);
+    std::vector<std::unique_ptr<System>> loaded;
     if (map.is_none()) {
       if (localize) throw InputError("System: localize needs a map to localise in (map=load_map(...))");
-      return;
+    } else {
+      const PyMap& m = map.cast<const PyMap&>();
+      // Localising, the maps saved are the loaded ones, as the options of their own run made them.
+      if (localize) options_yaml_ = m.file.options;
+      const auto use = localize ? System::LoadedMapUse::kLocalize : System::LoadedMapUse::kExtend;
+      for (StoredMap& stored : MapsToTakeUp(m.path, ReadMapFile(m.path), camera_)) {
+        loaded.push_back(std::make_unique<System>(camera_, options_));
+        loaded.back()->RestoreMap(std::move(stored), use);
+      }
     }
-    const PyMap& m = map.cast<const PyMap&>();
-    // Localising, the map saved is the loaded one, as the options of its own run made it.
-    if (localize) options_yaml_ = m.file.options;
-    system_.RestoreMap(std::move(MapsToTakeUp(m.path, ReadMapFile(m.path), camera_).front()),
-                       localize ? System::LoadedMapUse::kLocalize : System::LoadedMapUse::kExtend);
+    atlas_.emplace([this] { return std::make_unique<System>(camera_, options_); },
+                   [this](int id, System& system, const Atlas::Spans&, int merged_into) {
+                     EndMap(id, system, merged_into);
+                   },
+                   std::move(loaded));
   }
 
-  // Writes the map to a map file; the system is done then (its map is handed over).
+  // Writes the maps to a map file; the system is done then (its maps are handed over).
   void SaveMap(const std::string& path) {
     CheckOpen();
     MapFile file;
@@ -152,10 +167,11 @@ class PySystem {
     file.options = options_yaml_;
     {
       py::gil_scoped_release release;
-      file.maps.push_back(system_.TakeStoredMap());
+      saving_ = true;
+      Close();
     }
-    closed_ = true;
-    if (file.maps.back().map.NumKeyframes() == 0) file.maps.clear();
+    for (auto& [id, stored] : stored_)
+      if (stored.map.NumKeyframes() > 0) file.maps.push_back(std::move(stored));
     WriteMapFile(path, file);
   }
 
@@ -170,45 +186,108 @@ class PySystem {
     auto a = image.unchecked<2>();
     for (int y = 0; y < camera_.height; ++y)
       for (int x = 0; x < camera_.width; ++x) frame(x, y) = a(y, x);
-    FrameReport r;
+    const int index = next_index_;
+    std::vector<Atlas::Settled> settled;
     {
       py::gil_scoped_release release;
-      r = system_.Process(next_index_, t_ns, frame, exposure_ms);
+      settled = atlas_->Process(index, t_ns, frame, exposure_ms, std::nullopt);
       ++next_index_;
+      // Relocalisation keeps failing: the camera is somewhere new, and another map starts.
+      if (atlas_->current().NeedsNewMap()) atlas_->StartNewMap();
     }
     py::dict d;
-    d["index"] = r.index;
-    d["status"] = TrackingStatusName(r.status);
-    d["keyframe"] = r.keyframe;
-    d["relocalised"] = r.relocalised;
-    d["reason"] = r.reason;
-    d["tracking_ms"] = r.tracking_ms;
+    d["index"] = index;
+    // Pending: it waits for the next frame to confirm a relocalisation in another map.
+    d["status"] = "pending";
+    d["keyframe"] = false;
+    d["relocalised"] = false;
+    d["reason"] = "";
+    d["tracking_ms"] = 0.0;
+    d["map"] = -1;
+    for (const Atlas::Settled& st : settled) {
+      if (st.report.index != index) continue;
+      const FrameReport& r = st.report;
+      d["status"] = TrackingStatusName(r.status);
+      d["keyframe"] = r.keyframe;
+      d["relocalised"] = r.relocalised || r.resumed;
+      d["reason"] = r.reason;
+      d["tracking_ms"] = r.tracking_ms;
+      d["map"] = st.map;
+    }
     return d;
   }
 
   void Finish() {
     CheckOpen();
-    system_.Finish();
+    py::gil_scoped_release release;
+    atlas_->Flush();
+    atlas_->current().Finish();
   }
-  py::array_t<double> KeyframeTrajectory() const { return TrajectoryArray(system_.KeyframeTrajectory()); }
-  py::array_t<double> FrameTrajectory() const { return TrajectoryArray(system_.FrameTrajectory()); }
-  py::array_t<double> MapPoints() const {
-    const std::vector<LivePoint> points = LivePoints(system_.map(), camera_);
+  py::array_t<double> KeyframeTrajectory(int map) const { return TrajectoryArray(Ended(map).keyframes); }
+  py::array_t<double> FrameTrajectory(int map) const { return TrajectoryArray(Ended(map).frames); }
+  py::array_t<double> MapPoints(int map) const {
+    const std::vector<Eigen::Vector3d>& points = Ended(map).points;
     py::array_t<double> out({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
     auto a = out.mutable_unchecked<2>();
     for (size_t i = 0; i < points.size(); ++i)
-      for (int k = 0; k < 3; ++k) a(i, k) = points[i].world[k];
+      for (int k = 0; k < 3; ++k) a(i, k) = points[i][k];
     return out;
   }
 
  private:
+  // A map's trajectories and points, as it is now or as it ended.
+  struct MapOutputs {
+    Trajectory keyframes, frames;
+    std::vector<Eigen::Vector3d> points;
+  };
+
+  static MapOutputs Outputs(const System& system, const PinholeCamera& camera) {
+    MapOutputs m;
+    m.keyframes = system.KeyframeTrajectory();
+    m.frames = system.FrameTrajectory();
+    for (const LivePoint& p : LivePoints(system.map(), camera)) m.points.push_back(p.world.cast<double>());
+    return m;
+  }
+
+  void EndMap(int id, System& system, int merged_into) {
+    if (merged_into >= 0) return;  // Its keyframes and frames are the other map's now.
+    system.Finish();
+    // As `dsm run --save-map`: localising, a new map started outside the loaded ones is left out.
+    // A map saved is adjusted whole first (System::TakeStoredMap): its outputs are the map's as saved.
+    const bool saved = saving_ && (!localize_ || system.localizing());
+    if (saved && !system.localizing()) system.RunGlobalBundleAdjustment();
+    ended_[id] = Outputs(system, camera_);
+    if (saved) stored_.emplace(id, system.TakeStoredMap());
+  }
+
+  // Map `map`'s outputs (0: the first map, which keeps the whole trajectory after merges, as
+  // `dsm run` writes it to its output folder).
+  MapOutputs Ended(int map) const {
+    if (!closed_) {
+      if (const System* s = atlas_->Find(map)) return Outputs(*s, camera_);
+    }
+    const auto it = ended_.find(map);
+    if (it == ended_.end()) throw InputError("System: no map " + std::to_string(map));
+    return it->second;
+  }
+
+  void Close() {
+    atlas_->Close();
+    closed_ = true;
+  }
+
   void CheckOpen() const {
     if (closed_) throw InputError("the system's map was saved (save_map): it takes no more frames");
   }
 
   PinholeCamera camera_;
+  SystemOptions options_;
+  bool localize_ = false;
   std::string options_yaml_;  // The map file's options (MapFile::options).
-  System system_;
+  std::optional<Atlas> atlas_;
+  std::map<int, MapOutputs> ended_;  // By map id: maps the atlas ended.
+  std::map<int, StoredMap> stored_;  // By map id: the maps ended for the map file (saving_).
+  bool saving_ = false;  // Maps ended from now on are stored for the map file.
   int next_index_ = 0;
   bool closed_ = false;
 };
@@ -311,16 +390,20 @@ PYBIND11_MODULE(dsm, m) {
       .def(py::init<const py::dict&, const py::object&, const py::object&, bool>(), py::arg("camera"),
            py::arg("options") = py::none(), py::arg("map") = py::none(), py::arg("localize") = false,
            "camera: dict width, height, fx, fy, cx, cy (an undistorted pinhole camera, e.g. Dataset.camera); "
-           "options: dict of option sections; map: a Map (load_map) whose first map the system starts in: it "
-           "relocalises there (three frames that agree, a fourth that confirms) and goes on in its frame and scale, "
-           "extending it, or with localize=True leaving it unchanged (its keyframes are then temporary, and "
-           "save_map writes the map as it was loaded)")
+           "options: dict of option sections; map: a Map (load_map) whose maps the system relocalises in (three "
+           "frames that agree, a fourth that confirms) and goes on in their frame and scale, extending them, or "
+           "with localize=True leaving them unchanged (its keyframes are then temporary, and save_map writes the "
+           "maps as they were loaded). After a loss that relocalisation cannot end a new map starts, and maps "
+           "are merged when one recognises another, as in `dsm run`.")
       .def("save_map", &PySystem::SaveMap, py::arg("path"),
-           "Writes the system's map to a map file (after all its mapping); the system takes no frames after")
+           "Writes the system's maps to a map file (after all their mapping); the system takes no frames after")
       .def("process", &PySystem::Process, py::arg("t_ns"), py::arg("image"), py::arg("exposure_ms") = 0.0,
-           "Tracks (and maps) one frame: image (height, width), grey values; returns status, keyframe, ...")
-      .def("finish", &PySystem::Finish)
-      .def("keyframe_trajectory", &PySystem::KeyframeTrajectory)
-      .def("frame_trajectory", &PySystem::FrameTrajectory)
-      .def("map_points", &PySystem::MapPoints);
+           "Tracks (and maps) one frame: image (height, width), grey values; returns its index, status (initializing, "
+           "ok, lost, or pending while it waits for the next frame to confirm a relocalisation in another map), "
+           "keyframe, relocalised, reason and the map that took it")
+      .def("finish", &PySystem::Finish, "Waits for all mapping, and takes a frame still pending")
+      .def("keyframe_trajectory", &PySystem::KeyframeTrajectory, py::arg("map") = 0,
+           "world_from_cam of the keyframes of map `map` (0: the first, which takes in the maps it merges)")
+      .def("frame_trajectory", &PySystem::FrameTrajectory, py::arg("map") = 0)
+      .def("map_points", &PySystem::MapPoints, py::arg("map") = 0);
 }

@@ -59,6 +59,32 @@ def test_system_gives_what_the_command_line_gives(synthetic_run):
     assert system.map_points().shape == (stats["map_points"], 3)
 
 
+def test_system_starts_a_second_map_after_a_cut_and_merges_it(dsm_bin, tmp_path):
+    """`forward` with frames 60-129 cut out: the camera reappears beyond the map, relocalisation keeps
+    failing and a second map starts; on the way back it recognises the first and takes it in. Fed
+    frame by frame, dsm.System ends with the trajectories `dsm run --sequential` writes."""
+    scene, out = tmp_path / "scene", tmp_path / "cli"
+    subprocess.run([dsm_bin, "synth", "--scene", "forward", "--turned-textures", "--defects", "cut:60-129",
+                    "--out", str(scene)], check=True, capture_output=True)
+    subprocess.run([dsm_bin, "run", str(scene), "--out", str(out), "--sequential", "--quiet", "--no-report"],
+                   check=True, capture_output=True)
+    stats = json.loads((out / "stats.json").read_text())
+    assert len(stats["maps_merged"]) == 1 and len(stats["maps"]) == 2
+    dataset = dsm.read_dataset(str(scene))
+    system = dsm.System(dataset.camera)
+    reports = [system.process(frame.t_ns, frame.image, frame.exposure_ms) for frame in dataset]
+    system.finish()
+    assert {r["map"] for r in reports if r["status"] == "ok"} == {0, 1}
+    for name, trajectory in (("keyframes.tum", system.keyframe_trajectory()),
+                             ("frames.tum", system.frame_trajectory())):
+        cli = np.loadtxt(out / name)
+        assert trajectory.shape == cli.shape, name
+        np.testing.assert_allclose(trajectory[:, 1:], cli[:, 1:], rtol=0, atol=1e-8)
+        np.testing.assert_allclose(trajectory[:, 0], cli[:, 0], rtol=0, atol=1e-6)
+    with pytest.raises(dsm.InputError, match="no map 1"):
+        system.keyframe_trajectory(map=1)  # Taken in by map 0.
+
+
 def test_run_returns_the_stats(synthetic_run, tmp_path):
     out, _ = synthetic_run
     stats = dsm.run(str(out.parent / "scene"), out=str(tmp_path / "run"), end=40, write_report=False,

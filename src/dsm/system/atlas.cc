@@ -137,6 +137,13 @@ void Atlas::StartNewMap() {
   SetMergeSources();
 }
 
+const System* Atlas::Find(int id) const {
+  if (current_.id == id) return current_.system.get();
+  for (const Entry& e : suspended_)
+    if (e.id == id) return e.system.get();
+  return nullptr;
+}
+
 void Atlas::Close() {
   std::vector<Entry*> all = {&current_};
   for (Entry& e : suspended_) all.push_back(&e);

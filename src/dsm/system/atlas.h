@@ -69,6 +69,9 @@ class Atlas {
   void Close();
 
   System& current() { return *current_.system; }
+  // The map with this id while the atlas holds it, current or suspended (null: ended, merged into
+  // another, or never made).
+  const System* Find(int id) const;
   int current_id() const { return current_.id; }
 
  private:
