@@ -138,24 +138,20 @@ class PySystem {
   PySystem(const py::dict& camera, const py::object& options, const py::object& map, bool localize)
       : camera_(CameraFrom(camera)), options_(OptionsFrom(options)), localize_(localize) {
     options_yaml_ = OptionsYaml(options_);
-    std::vector<std::unique_ptr<System>> loaded;
+    std::vector<StoredMap> loaded;
     if (map.is_none()) {
       if (localize) throw InputError("System: localize needs a map to localise in (map=load_map(...))");
     } else {
       const PyMap& m = map.cast<const PyMap&>();
       // Localising, the maps saved are the loaded ones, as the options of their own run made them.
       if (localize) options_yaml_ = m.file.options;
-      const auto use = localize ? System::LoadedMapUse::kLocalize : System::LoadedMapUse::kExtend;
-      for (StoredMap& stored : MapsToTakeUp(m.path, ReadMapFile(m.path), camera_)) {
-        loaded.push_back(std::make_unique<System>(camera_, options_));
-        loaded.back()->RestoreMap(std::move(stored), use);
-      }
+      loaded = MapsToTakeUp(m.path, ReadMapFile(m.path), camera_);
     }
     atlas_.emplace([this] { return std::make_unique<System>(camera_, options_); },
                    [this](int id, System& system, const Atlas::Spans&, int merged_into) {
                      EndMap(id, system, merged_into);
                    },
-                   std::move(loaded));
+                   std::move(loaded), localize ? System::LoadedMapUse::kLocalize : System::LoadedMapUse::kExtend);
   }
 
   // Writes the maps to a map file; the system is done then (its maps are handed over).
@@ -223,10 +219,17 @@ class PySystem {
     atlas_->Flush();
     atlas_->current().Finish();
   }
-  py::array_t<double> KeyframeTrajectory(int map) const { return TrajectoryArray(Ended(map).keyframes); }
-  py::array_t<double> FrameTrajectory(int map) const { return TrajectoryArray(Ended(map).frames); }
+  py::array_t<double> KeyframeTrajectory(int map) const {
+    const System* s = Held(map);
+    return TrajectoryArray(s ? s->KeyframeTrajectory() : Ended(map).keyframes);
+  }
+  py::array_t<double> FrameTrajectory(int map) const {
+    const System* s = Held(map);
+    return TrajectoryArray(s ? s->FrameTrajectory() : Ended(map).frames);
+  }
   py::array_t<double> MapPoints(int map) const {
-    const std::vector<Eigen::Vector3d>& points = Ended(map).points;
+    const System* s = Held(map);
+    const std::vector<Eigen::Vector3d> points = s ? WorldPoints(*s, camera_) : Ended(map).points;
     py::array_t<double> out({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
     auto a = out.mutable_unchecked<2>();
     for (size_t i = 0; i < points.size(); ++i)
@@ -241,12 +244,10 @@ class PySystem {
     std::vector<Eigen::Vector3d> points;
   };
 
-  static MapOutputs Outputs(const System& system, const PinholeCamera& camera) {
-    MapOutputs m;
-    m.keyframes = system.KeyframeTrajectory();
-    m.frames = system.FrameTrajectory();
-    for (const LivePoint& p : LivePoints(system.map(), camera)) m.points.push_back(p.world.cast<double>());
-    return m;
+  static std::vector<Eigen::Vector3d> WorldPoints(const System& system, const PinholeCamera& camera) {
+    std::vector<Eigen::Vector3d> points;
+    for (const LivePoint& p : LivePoints(system.map(), camera)) points.push_back(p.world.cast<double>());
+    return points;
   }
 
   void EndMap(int id, System& system, int merged_into) {
@@ -256,16 +257,15 @@ class PySystem {
     // A map saved is adjusted whole first (System::TakeStoredMap): its outputs are the map's as saved.
     const bool saved = saving_ && (!localize_ || system.localizing());
     if (saved && !system.localizing()) system.RunGlobalBundleAdjustment();
-    ended_[id] = Outputs(system, camera_);
+    ended_[id] = {system.KeyframeTrajectory(), system.FrameTrajectory(), WorldPoints(system, camera_)};
     if (saved) stored_.emplace(id, system.TakeStoredMap());
   }
 
-  // Map `map`'s outputs (0: the first map, which keeps the whole trajectory after merges, as
-  // `dsm run` writes it to its output folder).
-  MapOutputs Ended(int map) const {
-    if (!closed_) {
-      if (const System* s = atlas_->Find(map)) return Outputs(*s, camera_);
-    }
+  // Map `map` while the atlas holds it (0: the first map, which keeps the whole trajectory after
+  // merges, as `dsm run` writes it to its output folder); null once it ended.
+  const System* Held(int map) const { return closed_ ? nullptr : atlas_->Find(map); }
+  // The outputs of map `map` as it ended.
+  const MapOutputs& Ended(int map) const {
     const auto it = ended_.find(map);
     if (it == ended_.end()) throw InputError("System: no map " + std::to_string(map));
     return it->second;

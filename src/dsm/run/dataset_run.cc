@@ -100,21 +100,24 @@ DatasetRun::DatasetRun(const Dataset& dataset, const RunOptions& options, fs::pa
   if (options.localize && options.load_map.empty()) throw InputError("--localize needs a map to localise in (--load-map)");
   // The maps of a map file are read before the run's clock starts (realtime: before the first
   // frame is released).
-  std::vector<std::unique_ptr<System>> loaded;
+  std::vector<StoredMap> loaded;
   if (!options.load_map.empty()) {
     MapFile read = ReadMapFile(options.load_map);
     loaded_options_ = read.options;
-    const auto use = options.localize ? System::LoadedMapUse::kLocalize : System::LoadedMapUse::kExtend;
-    for (StoredMap& stored : MapsToTakeUp(options.load_map, std::move(read), undistorter_.output())) {
-      loaded.push_back(MakeSystem());
-      loaded.back()->RestoreMap(std::move(stored), use);
-    }
+    loaded = MapsToTakeUp(options.load_map, std::move(read), undistorter_.output());
   }
-  loaded_maps_ = static_cast<int>(loaded.size());
-  if (!loaded.empty()) {
+  maps_.emplace([this] { return MakeSystem(); },
+                [this](int id, System& system, const Atlas::Spans& spans, int merged_into) {
+                  EndMap(id, system, spans, merged_into);
+                },
+                std::move(loaded), options.localize ? System::LoadedMapUse::kLocalize : System::LoadedMapUse::kExtend);
+  if (maps_->loaded_maps() > 0) {
     int keyframes = 0, points = 0;
-    for (const auto& system : loaded) keyframes += system->loaded_keyframes(), points += system->loaded_points();
-    map_loaded_ = {{"file", options.load_map.string()}, {"maps", loaded_maps_}, {"keyframes", keyframes},
+    for (int id = 0; id < maps_->loaded_maps(); ++id) {
+      keyframes += maps_->Find(id)->loaded_keyframes();
+      points += maps_->Find(id)->loaded_points();
+    }
+    map_loaded_ = {{"file", options.load_map.string()}, {"maps", maps_->loaded_maps()}, {"keyframes", keyframes},
                    {"points", points}};
   }
   process0_ = Clock::now();
@@ -125,11 +128,6 @@ DatasetRun::DatasetRun(const Dataset& dataset, const RunOptions& options, fs::pa
   } else {
     prefetch_.emplace(dataset, end_);
   }
-  maps_.emplace([this] { return MakeSystem(); },
-                [this](int id, System& system, const Atlas::Spans& spans, int merged_into) {
-                  EndMap(id, system, spans, merged_into);
-                },
-                std::move(loaded));
   shown_.total = end_ - options.start;
   fed_.last_frame = options.start - 1;
 }
@@ -178,9 +176,9 @@ void DatasetRun::Settle(const Atlas::Settled& s) {
   // Events: tracking lost (once per episode), regained, and a map the camera came back to.
   // The first frame in a loaded map is told as such, and the next one, which confirms it, not again.
   int& in_loaded_at = fed_.relocalised_in_loaded_at;
-  const bool first_in_loaded = r.status == TrackingStatus::kOk && s.map < loaded_maps_ && in_loaded_at < 0;
+  const bool first_in_loaded = r.status == TrackingStatus::kOk && s.map < maps_->loaded_maps() && in_loaded_at < 0;
   if (first_in_loaded) in_loaded_at = i;
-  const bool confirms_first_in_loaded = r.resumed && s.map < loaded_maps_ && i == in_loaded_at + 1;
+  const bool confirms_first_in_loaded = r.resumed && s.map < maps_->loaded_maps() && i == in_loaded_at + 1;
   if (first_in_loaded) {
     progress_.Event("frame " + std::to_string(i) + "  relocalised in the loaded map " + std::to_string(s.map));
   } else if (r.resumed && !confirms_first_in_loaded) {

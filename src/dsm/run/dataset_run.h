@@ -90,7 +90,6 @@ class DatasetRun {
   std::vector<std::optional<MapRun>> ended_;      // By map id.
   std::vector<std::optional<StoredMap>> stored_;  // By map id, with --save-map.
   std::string loaded_options_;  // The options that made the loaded maps.
-  int loaded_maps_ = 0;
   nlohmann::json map_loaded_;  // stats.json's "map_loaded" (null: no map file).
   std::optional<Atlas> maps_;
 

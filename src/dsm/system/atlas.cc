@@ -5,12 +5,13 @@
 
 namespace dsm {
 
-Atlas::Atlas(Factory make, Closer close, std::vector<std::unique_ptr<System>> loaded)
+Atlas::Atlas(Factory make, Closer close, std::vector<StoredMap> loaded, System::LoadedMapUse use)
     : make_(std::move(make)), close_(std::move(close)) {
-  for (std::unique_ptr<System>& system : loaded) {
+  for (StoredMap& stored : loaded) {
     Entry e;
     e.id = next_id_++;
-    e.system = std::move(system);
+    e.system = make_();
+    e.system->RestoreMap(std::move(stored), use);
     suspended_.push_back(std::move(e));
   }
   loaded_ = next_id_;

@@ -47,9 +47,10 @@ class Atlas {
   // (empty: it took no frame, or its frames went with a merge); `merged_into`: the map that took
   // it in (-1: none).
   using Closer = std::function<void(int id, System& system, const Spans& spans, int merged_into)>;
-  // `loaded`: maps taken up from a map file (ids 0, 1, ...), suspended; the first new map takes
-  // the next id.
-  Atlas(Factory make, Closer close, std::vector<std::unique_ptr<System>> loaded = {});
+  // `loaded`: the maps of a map file, each taken up by a System of `make` (System::RestoreMap, as
+  // `use` says) and suspended, with ids 0, 1, ...; the first new map takes the next id.
+  Atlas(Factory make, Closer close, std::vector<StoredMap> loaded = {},
+        System::LoadedMapUse use = System::LoadedMapUse::kExtend);
 
   // A frame the run settled: its report and the map it belongs to.
   struct Settled {
@@ -73,6 +74,7 @@ class Atlas {
   // another, or never made).
   const System* Find(int id) const;
   int current_id() const { return current_.id; }
+  int loaded_maps() const { return loaded_; }  // Taken up from a map file: ids 0 .. loaded_maps() - 1.
 
  private:
   struct Entry {
