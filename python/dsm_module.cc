@@ -136,7 +136,7 @@ struct PyMap {
 class PySystem {
  public:
   PySystem(const py::dict& camera, const py::object& options, const py::object& map, bool localize)
-      : camera_(CameraFrom(camera)), options_(OptionsFrom(options)), localize_(localize) {
+      : camera_(CameraFrom(camera)), options_(OptionsFrom(options)) {
     options_yaml_ = OptionsYaml(options_);
     std::vector<StoredMap> loaded;
     if (map.is_none()) {
@@ -253,9 +253,8 @@ class PySystem {
   void EndMap(int id, System& system, int merged_into) {
     if (merged_into >= 0) return;  // Its keyframes and frames are the other map's now.
     system.Finish();
-    // As `dsm run --save-map`: localising, a new map started outside the loaded ones is left out.
     // A map saved is adjusted whole first (System::TakeStoredMap): its outputs are the map's as saved.
-    const bool saved = saving_ && (!localize_ || system.localizing());
+    const bool saved = saving_ && atlas_->SavedInMapFile(system);
     if (saved && !system.localizing()) system.RunGlobalBundleAdjustment();
     ended_[id] = {system.KeyframeTrajectory(), system.FrameTrajectory(), WorldPoints(system, camera_)};
     if (saved) stored_.emplace(id, system.TakeStoredMap());
@@ -282,7 +281,6 @@ class PySystem {
 
   PinholeCamera camera_;
   SystemOptions options_;
-  bool localize_ = false;
   std::string options_yaml_;  // The map file's options (MapFile::options).
   std::optional<Atlas> atlas_;
   std::map<int, MapOutputs> ended_;  // By map id: maps the atlas ended.

@@ -153,7 +153,7 @@ void DatasetRun::EndMap(int id, System& system, const Atlas::Spans& spans, int m
   }
   // A map saved for later sessions is adjusted whole first (System::TakeStoredMap): the
   // trajectories written are the map's as saved.
-  const bool saved = !options_.save_map.empty() && (!options_.localize || system.localizing());
+  const bool saved = !options_.save_map.empty() && maps_->SavedInMapFile(system);
   const fs::path dir = id == 0 ? out_dir_ : out_dir_ / ("map_" + std::to_string(id));
   ended_[id] = CloseMap(system, dir, spans, (options_.global_ba || saved) && !system.localizing(),
                         undistorter_.output(), options_.write_map,

@@ -6,7 +6,7 @@
 namespace dsm {
 
 Atlas::Atlas(Factory make, Closer close, std::vector<StoredMap> loaded, System::LoadedMapUse use)
-    : make_(std::move(make)), close_(std::move(close)) {
+    : make_(std::move(make)), close_(std::move(close)), use_(use) {
   for (StoredMap& stored : loaded) {
     Entry e;
     e.id = next_id_++;

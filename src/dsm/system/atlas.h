@@ -75,6 +75,11 @@ class Atlas {
   const System* Find(int id) const;
   int current_id() const { return current_.id; }
   int loaded_maps() const { return loaded_; }  // Taken up from a map file: ids 0 .. loaded_maps() - 1.
+  // Whether `system`, one of these maps, goes into a map file saved at the end: localising in the
+  // loaded maps, a new map started outside them does not (the file keeps the loaded maps alone).
+  bool SavedInMapFile(const System& system) const {
+    return use_ != System::LoadedMapUse::kLocalize || system.localizing();
+  }
 
  private:
   struct Entry {
@@ -103,6 +108,7 @@ class Atlas {
 
   Factory make_;
   Closer close_;
+  System::LoadedMapUse use_;
   int next_id_ = 0;
   Entry current_;
   std::vector<Entry> suspended_;  // Oldest first.
