@@ -8,7 +8,7 @@
 // sigma, and the median ignores the block's few edges); the image's level is the median over
 // its blocks.
 //
-// The level decides how the system treats a recording's images (System::ChooseNoiseHandling):
+// The level decides how the system treats a recording's images (MappingSide::ChooseNoiseHandling):
 // camera images have 0.3-2 grey levels, path-traced renders with few samples 3-6.
 #pragma once
 

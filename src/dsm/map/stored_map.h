@@ -17,7 +17,7 @@ struct StoredMap {
   // keyframes: the rest are empty).
   std::vector<std::vector<int>> covisibility;
   // The image noise the map's frames had (image/noise.h, grey levels): it chose how residuals
-  // sample images and which candidates are kept (System::ChooseNoiseHandling), and a map taken up
+  // sample images and which candidates are kept (MappingSide::ChooseNoiseHandling), and a map taken up
   // again keeps that choice.
   double image_noise_sigma = 0.0;
   // The tracking-quality levels at the map's end (tracking/tracking_quality.h: median residual

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Loop closure end to end (system_loop.cc). `block` (a 98 m ring corridor walked 1.2 times, at
+// Loop closure end to end (mapping_loop.cc). `block` (a 98 m ring corridor walked 1.2 times, at
 // 320 x 240): without loop closure the camera comes back with the drift of the lap and the
 // second pass maps the place anew; with it, the place is recognised within 10 keyframes of the
 // return, the loop is closed once, and the keyframe ATE falls to at most half. `twins` (a

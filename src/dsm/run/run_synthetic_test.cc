@@ -175,7 +175,7 @@ TEST(Run, NearOccluderWithoutTextureKeepsTheScaleWithTextureLoss) {
 // start waits for parallax off the wall; the planar start (initializer.h) starts within the first
 // second and every frame is tracked. The frames between the two initial keyframes turn far from
 // keyframe 1 and back: they are chained from both keyframes against the settled map
-// (System::TrackInitFrames), so that their poses are as good as the keyframes'.
+// (MappingSide::TrackInitFrames), so that their poses are as good as the keyframes'.
 TEST(Run, HandHeldStartTracksTheFramesBeforeTheMap) {
   const fs::path dir = Render("pan", 0);
   const RunSummary s = ExpectKeepsTheScale(dir, "pan", 0.0005);

@@ -1,20 +1,32 @@
 // SPDX-License-Identifier: MIT
-// What the two sides of a System hand each other (system.h): a tracked frame for the mapping side
-// (MappingJob), and the keyframe the tracking side aligns frames with (TrackingReference, with
-// the map as a viewer shows it when asked). Each is immutable once handed over.
+// What the two sides of a System (system.h) hand each other, and the one way the tracking side
+// (tracking_side.h) reaches the mapping side (mapping_side.h): MappingInbox.
+//
+//   tracking side --MapStart, MappingJob-->  mapping side   (jobs, run in the order handed over)
+//   tracking side <--TrackingReference----   mapping side   (the newest keyframe, published)
+//   tracking side <--IdleMap, FramePose--  mapping side   (only while it is idle)
+//
+// A MapStart, MappingJob and TrackingReference are immutable once handed over. The map itself is
+// the mapping side's: the tracking side reads it only through an IdleMap, lent while nothing is
+// handed to the mapping side (a lost camera's relocalisation).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <utility>
 #include <vector>
 
 #include "dsm/image/pyramid.h"
 #include "dsm/lie/se3.h"
+#include "dsm/map/map.h"
 #include "dsm/mapping/map_points.h"
 #include "dsm/photometric/residual.h"
 #include "dsm/photometric/robust.h"
+#include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
+#include "dsm/tracking/initializer.h"
 #include "dsm/tracking/rolling_shutter.h"
 
 namespace dsm {
@@ -58,8 +70,87 @@ struct TrackingReference {
   std::vector<double> exposure;
   int map_points = 0;  // Live points of the map then.
   double texture = 0.0;  // The keyframe's (FrameSignature::texture).
-  double scale = 1.0;    // The keyframe's scale then (System::KeyframeScale).
+  double scale = 1.0;    // The keyframe's scale then (MappingSide::KeyframeScale).
   std::shared_ptr<const MapSnapshot> snapshot;  // With SystemSetup::map_snapshots.
+};
+
+// A frame the initialiser kept until the map starts.
+struct InitFrame {
+  int index = -1;
+  int64_t t_ns = 0;
+  double exposure = 1.0;
+  std::shared_ptr<const ImagePyramid> pyramid;
+};
+
+// The map's start, from the two-view initialisation: keyframes `first` and `last` (pyramids as a
+// global shutter saw them) with the initialiser's points, hosted by `first`; the frames between
+// them are tracked by the mapping side once the young map has settled.
+struct MapStart {
+  InitFrame first, last;
+  SE3d kf1_from_kf0;
+  std::vector<InitPoint> points;
+  std::vector<InitFrame> between;  // In order.
+  int steps = 1;                   // Frame steps from `first` to `last`.
+};
+
+// A tracked frame's pose, relative to the keyframe it was tracked against.
+struct FramePose {
+  int64_t t_ns = 0;
+  int reference = -1;  // Keyframe id the pose is relative to (-1: not tracked).
+  SE3d frame_from_reference;
+  // > 0 for the frames between the two initial keyframes: the distance between the two when the
+  // frame was tracked. The first bundle adjustments still rescale the young map about keyframe 0
+  // (held fixed), by ~5% on a hand-held start, so the frame's offset from its keyframe (0 or 1)
+  // is scaled by that distance's change.
+  double init_baseline = 0.0;
+  // The reference keyframe's scale (TrackingReference::scale) when the frame was tracked: a loop
+  // closure that rescales the keyframe later scales the frame's offset from it alike.
+  double reference_scale = 1.0;
+};
+
+// The mapping side's map, lent to the tracking side while the mapping side is idle
+// (MappingInbox::WaitUntilIdle); valid until the next job is handed over.
+class IdleMap {
+ public:
+  virtual const Map& map() const = 0;
+  // Points observed in keyframe kf (hosted, or an inlier observation), for tracking against it.
+  virtual std::vector<ReferencePoint> PointsSeenIn(int kf) = 0;
+  // A tracking reference of keyframe kf with `points` (`pyramid`: kf's, when the map holds none).
+  virtual std::shared_ptr<const TrackingReference> MakeReference(int kf, std::vector<ReferencePoint> points,
+                                                                 std::shared_ptr<const ImagePyramid> pyramid) const = 0;
+  // ORB features of keyframes, by id: the tracking side adds those it computes.
+  virtual std::map<int, OrbFeatures>& keyframe_features() = 0;
+  // `ref` becomes the published reference: the one the next keyframe is mapped relative to.
+  virtual void Republish(std::shared_ptr<const TrackingReference> ref) = 0;
+
+ protected:
+  ~IdleMap() = default;
+};
+
+// The mapping side as the tracking side reaches it. Sequential, a job is done when the call
+// returns; threaded, it runs on the mapping thread in the order handed over, and the waits below
+// block the tracking side until the mapping side has done what they name.
+class MappingInbox {
+ public:
+  // Builds the map from `start` now (the mapping side is idle before the map starts), publishes
+  // keyframe 1 with the initialiser's depths, and maps keyframe 1 as a keyframe job.
+  virtual void StartMap(MapStart start) = 0;
+  // A tracked frame: its candidate tracing, and its mapping when it is a keyframe.
+  virtual void Submit(MappingJob job) = 0;
+  // The newest reference published (null before the map starts).
+  virtual std::shared_ptr<const TrackingReference> Published() const = 0;
+  virtual bool threaded() const = 0;
+  // Keyframe jobs queued or running / not settled (their adjustments after publication) (0 sequential).
+  virtual int KeyframesPending() const = 0;
+  virtual int KeyframesUnsettled() const = 0;
+  virtual void WaitForKeyframes() = 0;
+  // Until every keyframe is settled, but no later than `until`; true when none is left.
+  virtual bool WaitForSettledKeyframesUntil(std::chrono::steady_clock::time_point until) = 0;
+  // Waits until every job handed over is done (`urgent`: long adjustments stop early) and lends the map.
+  virtual IdleMap& WaitUntilIdle(bool urgent) = 0;
+
+ protected:
+  ~MappingInbox() = default;
 };
 
 }  // namespace dsm

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// What a System keeps for loop closure and map merging (system_loop.cc, system_merge.cc), on its
-// mapping side: the place index of its keyframes, the candidate runs of the last keyframe, the
+// What a System's mapping side keeps for loop closure and map merging (mapping_loop.cc,
+// mapping_merge.cc): the place index of its keyframes, the candidate runs of the last keyframe, the
 // other maps it may merge with and the merges and loops it made.
 #pragma once
 
@@ -16,7 +16,7 @@
 
 namespace dsm {
 
-class System;
+class MappingSide;
 
 // Keyframe kf seeing keyframe `candidate` again (of this map or another): the Sim(3) from the
 // candidate's camera to kf's (at each one's scale), the brightness of kf relative to the
@@ -50,14 +50,14 @@ struct LoopState {
   // Map merging: the other maps with their candidate groups (System::SetMergeSources) ...
   struct MergeSource {
     int id = -1;
-    System* system = nullptr;
+    MappingSide* side = nullptr;
     std::vector<PlaceGroup> groups;
   };
   std::vector<MergeSource> merge_sources;
   // ... the verified match waiting for System::MergeVerified (its source's id in merge_ready
   // once set) ...
   struct PendingMerge {
-    System* source = nullptr;
+    MappingSide* source = nullptr;
     int keyframe = -1;
     LoopMatch match;
   };

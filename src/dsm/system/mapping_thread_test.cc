@@ -31,7 +31,7 @@ TEST(MappingThread, BoundedWaitForKeyframes) {
 }
 
 // A job's `then` runs right behind it, before anything queued meanwhile by the job itself (as an
-// adjustment that yields to the keyframe queues its rest: System::Adjust).
+// adjustment that yields to the keyframe queues its rest: MappingSide::Adjust).
 TEST(MappingThread, AJobsFollowUpRunsRightBehindIt) {
   MappingThread thread;
   std::vector<char> order;  // Written by the mapping thread only, read after WaitUntilIdle.

@@ -36,7 +36,7 @@ std::string MapModeName(MapMode mode);
 // from the last trusted frame (TrackingQuality::CheckJump), while at most `max_predicted_frames`
 // frames were lost; otherwise (a longer loss, or a camera that turned away from the prediction)
 // only when three lost frames in a row relocalise to poses that move as one camera does
-// (system_relocalisation.cc).
+// (tracking_relocalisation.cc).
 struct RelocalisationOptions {
   int candidates = 3;
   int max_lost_frames = 30;
@@ -46,7 +46,7 @@ struct RelocalisationOptions {
   void Validate() const;
 };
 
-// Loop closure (--mode dsm; system_loop.cc): each new keyframe's ORB features are scored against
+// Loop closure (--mode dsm; mapping_loop.cc): each new keyframe's ORB features are scored against
 // the map's keyframes outside the window by their bags of words (place/vocabulary.h); a place
 // found again by `consistent_keyframes` keyframes in a row is verified by a Sim(3) between the
 // two views (RANSAC on ORB matches with map depths, at least `min_inliers`, then direct
@@ -78,7 +78,7 @@ struct SystemSetup {
   // a live camera does not wait).
   bool wait_for_mapping = true;
   // Threaded: the young map's and the loop adjustments stop for a keyframe waiting to be mapped
-  // and are taken up after it (System::Adjust), so that a live camera's keyframes do not wait
+  // and are taken up after it (MappingSide::Adjust), so that a live camera's keyframes do not wait
   // through a second-long adjustment. Not when frames wait for the mapping side anyway (free
   // pace), where taking an adjustment up again costs building its problem anew.
   bool yield_adjustments = false;
@@ -120,7 +120,7 @@ struct SystemOptions {
   double texture_loss_min_noise = 2.5;
   // Bundle adjustments of the whole young map (--mode dsm): every keyframe but the first free,
   // when the map reaches young_map_ba_first keyframes, then twice, four times as many, ..., up to
-  // young_map_ba_last (0: none), each after the keyframe is published (System::FinishKeyframe; it
+  // young_map_ba_last (0: none), each after the keyframe is published (MappingSide::FinishKeyframe; it
   // is then published again). A keyframe that leaves the window is held where the window left
   // it, and every later keyframe builds on it, while the first ones stand on short baselines and
   // the two-view start. Not before 10 keyframes: a map of 5 may still be little more than a
@@ -133,7 +133,7 @@ struct SystemOptions {
   // after the oldest of them are adjusted (the newest loop_ba_max_keyframes at most), the
   // covisible ones and all before held, with loop_ba_max_iterations LM iterations per level (0:
   // as pba.max_iterations); at most once every loop_ba_min_gap keyframes, after the keyframe is
-  // published (System::FinishKeyframe; it is then published again). The window alone moves only
+  // published (MappingSide::FinishKeyframe; it is then published again). The window alone moves only
   // its own keyframes onto the old map, and what drifted over the loop stays. Not when the camera
   // has stayed within loop_ba_min_reach scene depths (the inverse of the mean inverse depth of
   // the window's points) of the oldest covisible keyframe since: a camera turning in place sees its
@@ -161,7 +161,7 @@ struct SystemOptions {
   // alone, which a small overlap leaves a few percent of the baseline off. When the camera later
   // sees the older map again and at least rejoin_min_outliers of a new keyframe's observations of
   // its points are outliers (three times its inlier ones), the keyframe is aligned with the old
-  // keyframe they come from, and the whole part is moved by the correction (system_rejoin.cc).
+  // keyframe they come from, and the whole part is moved by the correction (mapping_rejoin.cc).
   // 0: never.
   int rejoin_min_outliers = 50;
   // Keyframe culling (--mode dsm): a keyframe that has left the temporal window and is no longer
@@ -170,7 +170,7 @@ struct SystemOptions {
   // hosts at most a tenth of them, and half of them are the older map's (a place seen before);
   // its points are re-hosted by the keyframe outside the window that sees each nearest to where
   // it was (dropped when none can). The map then grows with the area covered rather than the
-  // time spent in it (system_culling.cc).
+  // time spent in it (mapping_culling.cc).
   bool keyframe_culling = true;
   int loop_ba_max_keyframes = 120;
   int loop_ba_max_iterations = 0;  // Per level; 0: as pba.max_iterations.

@@ -1,13 +1,18 @@
 // SPDX-License-Identifier: MIT
-// Helpers shared by the System's source files (system.cc, system_mapping.cc, system_relocalisation.cc).
+// Helpers shared by the two sides' source files (tracking_*.cc, mapping_*.cc).
 #pragma once
 
 #include <chrono>
 #include <cmath>
 
+#include <memory>
+
+#include "dsm/geometry/camera.h"
+#include "dsm/image/pyramid.h"
 #include "dsm/lie/se3.h"
 #include "dsm/photometric/residual.h"
 #include "dsm/tracking/frame_tracker.h"
+#include "dsm/tracking/rolling_shutter.h"
 
 namespace dsm::internal {
 
@@ -23,6 +28,14 @@ inline TrackerOptions OverLevels(TrackerOptions tracker, int levels) {
 
 inline double MsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A frame's pyramid (`levels` levels) as a global shutter at its timestamp would have seen it, the
+// camera turning by `turn` through the readout (tracking/rolling_shutter.h); without gradients.
+inline std::shared_ptr<const ImagePyramid> GlobalShutterPyramid(const ImagePyramid& pyramid, const PinholeCamera& camera,
+                                                                const ReadoutTurn& turn, int levels) {
+  return std::make_shared<const ImagePyramid>(RectifyRotation(pyramid.ValuesLevel0(), camera, turn), levels,
+                                              /*gradients=*/false);
 }
 
 // T^s on the geodesic from the identity.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// What a System counts and times over its run (System::stats): frames, losses, keyframes, the
-// mapping side's adjustments and culling, and a log per keyframe.
+// What a System counts and times over its run (System::stats): the tracking side's frames, losses
+// and waits (TrackingStats), and the mapping side's keyframes, adjustments, culling, loops and a
+// log per keyframe (MappingStats). Each side writes its own part only.
 #pragma once
 
 #include <string>
@@ -9,18 +10,19 @@
 
 namespace dsm {
 
-struct SystemStats {
-  int frames = 0, frames_tracked = 0, keyframes = 0;
+struct TrackingStats {
+  int frames = 0, frames_tracked = 0;
   // Frames that failed the quality test after the map started (tracking_quality.h), the episodes
   // of consecutive lost frames (first and last frame index) and how many ended by relocalisation.
   int frames_lost = 0, relocalisations = 0;
   std::vector<std::pair<int, int>> lost_episodes;
-  // Each confirmed relocalisation and its evidence (System::Relocalise): the relocalised frame, the
-  // keyframe it was aligned with, the frames since the last trusted one, whether its pose was
-  // within reach of the prediction (else three sightings moved as one camera), the alignment's
-  // inlier share beside the inlier level of tracking before the loss (0: not known), its median
-  // residual over the residual level, and the margin: the median residual of the best alignment
-  // that passed the quality test at another place over the winner's (0: no other place passed).
+  // Each confirmed relocalisation and its evidence (TrackingSide::Relocalise): the relocalised
+  // frame, the keyframe it was aligned with, the frames since the last trusted one, whether its
+  // pose was within reach of the prediction (else three sightings moved as one camera), the
+  // alignment's inlier share beside the inlier level of tracking before the loss (0: not known),
+  // its median residual over the residual level, and the margin: the median residual of the best
+  // alignment that passed the quality test at another place over the winner's (0: no other place
+  // passed).
   struct Relocalisation {
     int frame = -1, keyframe = -1, frames_lost = 0;
     bool predicted = false;
@@ -29,11 +31,24 @@ struct SystemStats {
   std::vector<Relocalisation> relocalised;
   int initialized_at_frame = -1;
   std::string initialization;  // How the map started: "two-view" or "planar" (initializer.h).
+  std::vector<double> tracking_ms;  // Per tracked frame: its pyramid and alignment.
+  int keyframe_waits = 0;           // Frames whose tracking waited for a keyframe to be mapped.
+  int keyframe_wait_timeouts = 0;   // Of those, the ones that gave up at their deadline (wait_until).
+  // Frames that failed against the keyframe before a pending one and were tracked again against it.
+  int keyframe_retracks = 0;
+  // Frames whose candidate tracing was skipped (SystemSetup::skip_traces_while_mapping).
+  int traces_skipped = 0;
+  // Trackings redone with the brightness held: the contrast changed more than exposure can
+  // (TrackerOptions::max_alpha_step).
+  int brightness_holds = 0;
+};
+
+struct MappingStats {
+  int keyframes = 0;
   double image_noise_sigma = -1.0;  // Noise level of the first frame (image/noise.h), grey levels.
   bool contrast_floor = false;      // Candidates kept off patterns at the noise's contrast.
   std::string interpolation = "bilinear";  // How the residuals sample images: bilinear | bspline.
   bool texture_loss = false;  // The bundle adjustment's texture-loss test is on (options.h).
-  std::vector<double> tracking_ms;  // Per tracked frame: its pyramid and alignment.
   std::vector<double> tracing_ms;   // Per tracked frame: candidate tracing (mapping side).
   std::vector<double> mapping_ms;   // Per keyframe: everything the mapping side does to it.
   std::vector<double> pba_ms;       // Per keyframe.
@@ -76,18 +91,9 @@ struct SystemStats {
   std::vector<KeyframeLog> per_keyframe;
   double global_ba_ms = -1.0;       // -1: not run.
   int keyframe_queue_max = 0;       // Most keyframes handed to the mapping side and not yet mapped.
-  int keyframe_waits = 0;           // Frames whose tracking waited for a keyframe to be mapped.
-  int keyframe_wait_timeouts = 0;   // Of those, the ones that gave up at their deadline (wait_until).
-  // Frames that failed against the keyframe before a pending one and were tracked again against it.
-  int keyframe_retracks = 0;
   // Young map's and loop adjustments that stopped for a keyframe waiting to be mapped or a
-  // relocalisation (taken up after it; System::Adjust).
+  // relocalisation (taken up after it; MappingSide::Adjust).
   int adjustments_yielded = 0;
-  // Frames whose candidate tracing was skipped (SystemSetup::skip_traces_while_mapping).
-  int traces_skipped = 0;
-  // Trackings redone with the brightness held: the contrast changed more than exposure can
-  // (TrackerOptions::max_alpha_step).
-  int brightness_holds = 0;
   int keyframes_culled = 0;  // Retired by keyframe culling (SystemOptions::keyframe_culling) ...
   int points_rehosted = 0;   // ... their points re-hosted by other keyframes ...
   int points_dropped = 0;    // ... and those none could.
@@ -124,5 +130,7 @@ struct SystemStats {
   int pyramids_rebuilt = 0;         // Keyframe pyramids rebuilt after they were released (Map).
   int pyramids_loaded_max = 0;      // Most keyframe pyramids held at once.
 };
+
+struct SystemStats : TrackingStats, MappingStats {};
 
 }  // namespace dsm

@@ -11,7 +11,7 @@
 //   kConfirming    kTracked       kTracking    (the relocalisation counts)
 //   kConfirming    kWithdrawn     kLost
 //
-// kInitializing  frames go to the initialiser until two views start the map (system_start.cc).
+// kInitializing  frames go to the initialiser until two views start the map (tracking_start.cc).
 // kTracking      each frame is aligned with the reference keyframe and judged by the quality test
 //                (tracking_quality.h); a frame that passes may become a keyframe.
 // kLost          the last frame failed the test: each frame with texture enough is aligned with

@@ -48,7 +48,7 @@ struct InitializerOptions {
   static constexpr int planar_frame_gap = 4;
   static constexpr double planar_normal_tolerance_deg = 3.0;
   // The caller starts over on the current frame once fewer than this share of the reference's
-  // corners are still tracked (System::Initialize): a camera that moves fast, or a live one whose
+  // corners are still tracked (TrackingSide::Initialize): a camera that moves fast, or a live one whose
   // frames are dropped while the initialiser waits for parallax, loses most corners within a few
   // frames, and two views joined by the few that remain make a map of a hundred points whose scale
   // collapses within a few keyframes. A normal start keeps well above this share.

@@ -9,7 +9,7 @@
 //            while lost, texture < min_relocalisation_texture_ratio x the level before (a hand
 //            half over the lens, or a plainer part of the scene): any pose fits the rest of a
 //            half-covered frame as well as the right one, so such a frame relocalises only by
-//            three sightings that move as one camera (System::Relocalise, `plain`).
+//            three sightings that move as one camera (TrackingSide::Relocalise, `plain`).
 //            The level there is the lower of the running one and the newest keyframe's (the
 //            last view of the place, made before a hand came in: a frame whose texture fell
 //            makes no keyframe): the running median lags a view turning to a plainer part of
@@ -37,7 +37,7 @@
 //             min_turn_deg (a repetitive scene offers a second place that looks the same, and
 //             its residual can pass the test)
 // The levels judge once they hold `min_history` values. A new map's are seeded at once
-// (System::StartMap): the texture with that of each frame the initialiser used, the residual with
+// (TrackingSide::StartMap): the texture with that of each frame the initialiser used, the residual with
 // the frame before the second keyframe tracked against the new map, so that a bad frame right
 // after the start is judged as any other.
 // The median of the level-0 gradient-weighted residuals (TrackResult::residual_p50), not their

@@ -23,7 +23,7 @@
 #include <map>
 #include <memory>
 #include "dsm/mapping/projection.h"
-#include "dsm/system/system.h"
+#include "dsm/system/mapping_side.h"
 #include "dsm/system/system_internal.h"
 #include "dsm/tracking/frame_tracker.h"
 #include "dsm/util/median.h"
@@ -42,7 +42,7 @@ constexpr float kMinShiftPx = 8.f;
 
 }  // namespace
 
-bool System::RejoinAfterRelocalisation(int newest) {
+bool MappingSide::RejoinAfterRelocalisation(int newest) {
   const int min_outliers = options_.rejoin_min_outliers;
   if (options_.mode != MapMode::kFull || rejoin_first_ < 0 || min_outliers == 0 || newest < rejoin_first_)
     return false;
@@ -129,7 +129,7 @@ bool System::RejoinAfterRelocalisation(int newest) {
           ob.outlier = false;
     }
   }
-  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  MappingStats::KeyframeLog& log = stats_->per_keyframe.back();
   log.rejoined = true;
   log.rejoin_step = step;
   log.rejoin_deg = turn_deg;

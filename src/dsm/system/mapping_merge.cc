@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-// Map merging: a map started after a loss (system/atlas.h) recognises a place of an earlier map of
-// the run and takes that map in, so that the run ends with one map and one trajectory.
+// Map merging on the mapping side: a map started after a loss (system/atlas.h) recognises a place
+// of an earlier map of the run and takes that map in, so that the run ends with one map and one
+// trajectory (the frames follow in System::MergeVerified).
 //
-// Detection and verification are the loop's (system_loop.cc: DetectMerge), against the other
-// map's place index and keyframes. The merge itself (MergeVerified) moves the other map rigidly,
+// Detection and verification are the loop's (mapping_loop.cc: DetectMerge), against the other
+// map's place index and keyframes. The merge itself (TakeMerge) moves the other map rigidly,
 // with its scale, onto the verified match: two maps joined at one place have no loop between
 // them, so a pose graph would move nothing. The seam is then the persistent map's: the next
 // keyframes select the merged keyframes as covisible, re-observe their points, and the loop
@@ -12,34 +13,30 @@
 #include <chrono>
 #include <utility>
 
-#include "dsm/system/system.h"
+#include "dsm/system/mapping_side.h"
 #include "dsm/system/system_internal.h"
 
 namespace dsm {
 
-void System::SetMergeSources(const std::vector<std::pair<int, System*>>& sources) {
+void MappingSide::SetMergeSources(const std::vector<std::pair<int, MappingSide*>>& sources) {
   std::vector<LoopState::MergeSource> kept;
-  for (const auto& [id, system] : sources) {
+  for (const auto& [id, side] : sources) {
     LoopState::MergeSource s;
     s.id = id;
-    s.system = system;
+    s.side = side;
     for (const LoopState::MergeSource& before : loop_.merge_sources)
-      if (before.system == system) s.groups = before.groups;
+      if (before.side == side) s.groups = before.groups;
     kept.push_back(std::move(s));
   }
   loop_.merge_sources = std::move(kept);
 }
 
-bool System::MergeVerified(int taken_id) {
-  if (loop_.merge_ready.load() < 0) return false;
-  Finish();
-  if (state_ == TrackingState::kConfirming) return false;
+int MappingSide::TakeMerge(int taken_id) {
   const auto start = std::chrono::steady_clock::now();
   const LoopState::PendingMerge pending = std::move(*loop_.pending_merge);
   loop_.pending_merge.reset();
   loop_.merge_ready.store(-1);
-  System& other = *pending.source;
-  DSM_CHECK(next_keyframe_ == map_.NumKeyframes(), "a merge waits until every keyframe is mapped");
+  MappingSide& other = *pending.source;
   const int n = map_.NumKeyframes();
   // S: this world from the other's (a point of the other map x goes to S x here).
   const Sim3d S = Sim3d(map_.keyframe(pending.keyframe).cam_from_world).Inverse() * pending.match.k_from_c *
@@ -73,27 +70,9 @@ bool System::MergeVerified(int taken_id) {
     map_.RestorePoint(std::move(p));
     ++points;
   }
-  // The other map's frames, relative to their keyframes as before (their offsets scale with the
-  // keyframe: keyframe_scale_), in time order with this map's.
-  const double baseline = other.map_.NumKeyframes() > 1 ? other.InitBaseline() : 0.0;
-  std::vector<FrameRecordInternal> frames;
-  for (FrameRecordInternal f : other.frames_) {
-    if (f.reference < 0) continue;
-    if (f.init_baseline > 0.0) {
-      f.frame_from_reference.SetTranslation(f.frame_from_reference.Translation() * (baseline / f.init_baseline));
-      f.init_baseline = 0.0;
-    }
-    f.reference += n;
-    frames.push_back(f);
-  }
-  std::vector<FrameRecordInternal> all;
-  std::merge(frames.begin(), frames.end(), frames_.begin(), frames_.end(), std::back_inserter(all),
-             [](const FrameRecordInternal& a, const FrameRecordInternal& b) { return a.t_ns < b.t_ns; });
-  frames_ = std::move(all);
-  next_keyframe_ = map_.NumKeyframes();
   const int candidate = n + pending.match.candidate;
   loop_.merged_blocks.push_back({n, other.map_.NumKeyframes(), pending.keyframe, candidate, pending.match.k_from_c});
-  SystemStats::MapMerge merge;
+  MappingStats::MapMerge merge;
   merge.frame = map_.keyframe(pending.keyframe).frame_index;
   merge.keyframe = pending.keyframe;
   merge.candidate = candidate;
@@ -102,19 +81,18 @@ bool System::MergeVerified(int taken_id) {
   merge.points = points;
   merge.inliers = pending.match.inliers;
   merge.scale = S.Scale();
-  // The other System keeps its stats; its map and frames are this one's now.
+  // The other System keeps its stats; its map is this one's now (its frames: System::MergeVerified).
   other.map_ = Map();
-  other.frames_.clear();
   other.keyframe_features_.clear();
   other.loop_.places = PlaceIndex();
-  std::erase_if(loop_.merge_sources, [&](const LoopState::MergeSource& s) { return s.system == &other; });
+  std::erase_if(loop_.merge_sources, [&](const LoopState::MergeSource& s) { return s.side == &other; });
   loop_.merge_ba_pending = true;
   merge.ms = internal::MsSince(start);
-  stats_.maps_merged.push_back(merge);
-  return true;
+  stats_->maps_merged.push_back(merge);
+  return n;
 }
 
-bool System::AdjustMerge(int newest) {
+bool MappingSide::AdjustMerge(int newest) {
   if (!loop_.merge_ba_pending) return false;
   const MergedBlock& b = loop_.merged_blocks.back();
   if (std::none_of(covisible_.begin(), covisible_.end(), [&](int k) { return b.Contains(k); })) return false;

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "dsm/mapping/projection.h"
-#include "dsm/system/system.h"
+#include "dsm/system/mapping_side.h"
 
 namespace dsm {
 
@@ -19,7 +19,7 @@ constexpr double kMinOldShare = 0.5;     // Of the points it sees, hosted by the
 
 }  // namespace
 
-bool System::CullKeyframe(int k) {
+bool MappingSide::CullKeyframe(int k) {
   if (k == 0 || k < loaded_keyframes_ || map_.keyframe(k).retired) return false;
   // The points it sees: hosted, or an inlier observation in it; covered: three other keyframes
   // see it as well (the host counts, k does not); old: hosted by a keyframe a whole window older
@@ -69,21 +69,21 @@ bool System::CullKeyframe(int k) {
     }
     if (best < 0) {
       map_.point(pid).removed = true;
-      ++stats_.points_dropped;
+      ++stats_->points_dropped;
       continue;
     }
     map_.LoadPyramids({best});
     map_.Rehost(pid, best, pixel, idepth);
-    ++stats_.points_rehosted;
+    ++stats_->points_rehosted;
   }
   map_.Retire(k);
   keyframe_features_.erase(k);
   loop_.places.Remove(k);
-  ++stats_.keyframes_culled;
+  ++stats_->keyframes_culled;
   return true;
 }
 
-void System::CullUnusedKeyframes(const std::vector<int>& in_use) {
+void MappingSide::CullUnusedKeyframes(const std::vector<int>& in_use) {
   std::vector<int> still;
   for (int k : cull_pending_) {
     const bool used = std::find(in_use.begin(), in_use.end(), k) != in_use.end() ||

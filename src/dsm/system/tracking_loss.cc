@@ -1,17 +1,17 @@
 // SPDX-License-Identifier: MIT
 // The bookkeeping of lost frames: the recording's frame clock (frames missing from it count by
 // their timestamps), lost episodes, the tentative relocalisation and its withdrawal, and when a
-// map is given up (System::NeedsNewMap). The relocalisation itself is in system_relocalisation.cc.
+// map is given up (System::NeedsNewMap). The relocalisation itself is in tracking_relocalisation.cc.
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "dsm/system/system.h"
+#include "dsm/system/tracking_side.h"
 #include "dsm/util/median.h"
 
 namespace dsm {
 
-int System::FramesSinceTrusted(int index) const {
+int TrackingSide::FramesSinceTrusted(int index) const {
   if (!HasTrustedFrame()) return 1;
   int frames = std::max(1, index - track_.last_trusted_index);
   // A gap in the recording's timestamps (frames missing from it) counts as the frames that would
@@ -23,7 +23,7 @@ int System::FramesSinceTrusted(int index) const {
   return frames;
 }
 
-void System::NoteTimestamp(int index, int64_t t_ns) {
+void TrackingSide::NoteTimestamp(int index, int64_t t_ns) {
   if (seen_index_ >= 0 && (index <= seen_index_ || t_ns <= seen_t_ns_)) {
     throw InputError("frame " + std::to_string(index) + " at t_ns " + std::to_string(t_ns) +
                      " does not come after frame " + std::to_string(seen_index_) + " at t_ns " +
@@ -42,7 +42,7 @@ void System::NoteTimestamp(int index, int64_t t_ns) {
   current_t_ns_ = t_ns;
 }
 
-FrameReport System::LostFrame(FrameReport report, int64_t t_ns, std::string reason) {
+FrameReport TrackingSide::LostFrame(FrameReport report, int64_t t_ns, std::string reason) {
   report.status = TrackingStatus::kLost;
   report.reason = std::move(reason);
   ++track_.lost_in_a_row;
@@ -50,32 +50,32 @@ FrameReport System::LostFrame(FrameReport report, int64_t t_ns, std::string reas
   Transition(TrackingEvent::kFailed);
   if (suspended_) return report;  // Not its frame (Suspend).
   frames_.push_back({t_ns, -1, SE3d()});
-  ++stats_.frames_lost;
-  if (opens_episode) stats_.lost_episodes.push_back({report.index, report.index});
-  stats_.lost_episodes.back().second = report.index;
+  ++stats_->frames_lost;
+  if (opens_episode) stats_->lost_episodes.push_back({report.index, report.index});
+  stats_->lost_episodes.back().second = report.index;
   return report;
 }
 
-System::Tentative System::SaveTentative(int index) const {
+TrackingSide::Tentative TrackingSide::SaveTentative(int index) const {
   return Tentative{index, frames_.size(), reference_, track_, {}};
 }
 
-void System::WithdrawRelocalisation() {
+void TrackingSide::WithdrawRelocalisation() {
   Tentative& t = *tentative_;
   if (suspended_) {
     // Not its frame after all (Suspend): no trace left.
     frames_.resize(t.record);
-    --stats_.frames_tracked;
-    --stats_.frames;
+    --stats_->frames_tracked;
+    --stats_->frames;
   } else {
     // The relocalised frame becomes a lost one of the same episode.
     frames_[t.record].reference = -1;
-    --stats_.frames_tracked;
-    ++stats_.frames_lost;
-    stats_.lost_episodes.back().second = t.index;
+    --stats_->frames_tracked;
+    ++stats_->frames_lost;
+    stats_->lost_episodes.back().second = t.index;
   }
   // The mapping side is idle: it was handed nothing since the camera was lost.
-  if (reference_ != t.reference) AdoptReference(t.reference);
+  if (reference_ != t.reference) AdoptReference(t.reference, mapping_->WaitUntilIdle(/*urgent=*/false));
   track_ = t.state;
   ++track_.lost_in_a_row;
   ++track_.failed_relocalisations;
@@ -83,10 +83,9 @@ void System::WithdrawRelocalisation() {
   Transition(TrackingEvent::kWithdrawn);
 }
 
-bool System::NeedsNewMap() const {
+bool TrackingSide::NeedsNewMap(bool young) const {
   const RelocalisationOptions& o = options_.relocalisation;
   if (o.max_lost_frames == 0) return false;
-  const bool young = Young();
   const int limit = young ? std::max(1, std::min(o.max_lost_frames, o.max_predicted_frames)) : o.max_lost_frames;
   return track_.failed_relocalisations >= limit;
 }

@@ -1,36 +1,31 @@
 // SPDX-License-Identifier: MIT
-// How the tracking side waits for the mapping side (threaded System only): for the keyframe in
+// How the tracking side waits for the mapping side (a threaded System only): for the keyframe in
 // flight before a frame is tracked, and in the realtime pace until a deadline, so that a frame is
 // tracked against the keyframe it would have in the sequential run when the mapping side keeps up
-// (run/realtime_wait.h decides the deadline). The tracking logic itself is in system.cc.
+// (run/realtime_wait.h decides the deadline). The tracking logic itself is in tracking_side.cc.
 #include <chrono>
 
-#include "dsm/system/mapping_thread.h"
-#include "dsm/system/system.h"
+#include "dsm/system/tracking_side.h"
 #include "dsm/system/system_internal.h"
 
 namespace dsm {
 
 using internal::MsSince;
 
-bool System::WaitSettled(std::chrono::steady_clock::time_point until) const {
-  return !mapping_thread_ || mapping_thread_->WaitForSettledKeyframesUntil(until);
-}
-
-void System::Preview(int index, const Image<float>& input, double exposure_ms) const {
+void TrackingSide::Preview(int index, const Image<float>& input, double exposure_ms) const {
   if (!reference_ || state_ == TrackingState::kLost || !pose_listener_) return;
   const ImagePyramid pyramid(input, options_.pyramid_levels, /*gradients=*/false);
   const TrackResult result = TrackFrame(index, pyramid, exposure_ms > 0.0 ? exposure_ms : 1.0);
   if (result.ok) pose_listener_(index, WorldFromCam(result.frame_from_keyframe));
 }
 
-bool System::WaitForMapping(FrameWork* f, std::optional<std::chrono::steady_clock::time_point> until) {
+bool TrackingSide::WaitForMapping(FrameWork* f, std::optional<std::chrono::steady_clock::time_point> until) {
   const auto start = std::chrono::steady_clock::now();
   const std::shared_ptr<const TrackingReference> before = reference_;
   if (!until) {
-    mapping_thread_->WaitForKeyframes();
-  } else if (!mapping_thread_->WaitForSettledKeyframesUntil(*until)) {
-    ++stats_.keyframe_wait_timeouts;
+    mapping_->WaitForKeyframes();
+  } else if (!mapping_->WaitForSettledKeyframesUntil(*until)) {
+    ++stats_->keyframe_wait_timeouts;
   }
   UpdateReference(false);
   const auto waited = std::chrono::steady_clock::now() - start;
@@ -40,8 +35,8 @@ bool System::WaitForMapping(FrameWork* f, std::optional<std::chrono::steady_cloc
   return reference_ != before;
 }
 
-void System::WaitForNewerKeyframe(FrameWork* f, std::chrono::steady_clock::time_point until) {
-  if (!mapping_thread_ || mapping_thread_->KeyframesUnsettled() == 0) return;
+void TrackingSide::WaitForNewerKeyframe(FrameWork* f, std::chrono::steady_clock::time_point until) {
+  if (mapping_->KeyframesUnsettled() == 0) return;
   // A frame tracked against the keyframe before the pending one lands further from its
   // reference, and its candidates' traces and the next keyframe with it: it waits until `until`
   // and is tracked against the newer one. It waits for the adjustments after the keyframe's
@@ -49,7 +44,7 @@ void System::WaitForNewerKeyframe(FrameWork* f, std::chrono::steady_clock::time_
   // the sequential run tracks the frame against the adjusted one. A live camera's pose does not
   // wait for that: it is tracked against the newest keyframe published first and told
   // (SetPoseListener); the frame's pose the run keeps is the later one.
-  ++stats_.keyframe_waits;
+  ++stats_->keyframe_waits;
   if (pose_listener_ && f->reason.empty() && state_ != TrackingState::kLost) {
     TrackAndJudge(f);
     if (f->reason.empty()) {

@@ -1,20 +1,19 @@
 // SPDX-License-Identifier: MIT
-// A System's map handed to a map file (TakeStoredMap) and taken up from one (RestoreMap), and
+// The mapping side's map handed to a map file (TakeStoredMap) and taken up from one (RestoreMap), and
 // the temporary keyframes of a localisation in it (RetireTemporaries).
 #include <algorithm>
 #include <vector>
 
 #include <tbb/parallel_for.h>
 
-#include "dsm/system/system.h"
+#include "dsm/system/mapping_side.h"
 #include "dsm/tracking/feature_pose.h"
 #include "dsm/util/check.h"
 #include "dsm/util/median.h"
 
 namespace dsm {
 
-StoredMap System::TakeStoredMap() {
-  Finish();
+StoredMap MappingSide::TakeStoredMap(double residual_level, double texture_level) {
   StoredMap stored;
   if (localizing_) {
     // The loaded map as it was taken up: what the run added goes, the frozen rest is unchanged.
@@ -25,9 +24,9 @@ StoredMap System::TakeStoredMap() {
     // window leaves each part of it where the adjustments of its time put it, and a whole-map
     // adjustment, which the loop's later keyframes pull into agreement, removes most of the drift
     // a later session would otherwise be held to (docs/results.md, section `sessions`).
-    if (stats_.global_ba_ms < 0.0) RunGlobalBundleAdjustment();
+    if (stats_->global_ba_ms < 0.0) RunGlobalBundleAdjustment();
     std::vector<std::vector<int>> covisibility = loaded_covisibility_;
-    for (const SystemStats::KeyframeLog& log : stats_.per_keyframe) covisibility.push_back(log.covisible);
+    for (const MappingStats::KeyframeLog& log : stats_->per_keyframe) covisibility.push_back(log.covisible);
     covisibility.resize(std::min<size_t>(covisibility.size(), map_.NumKeyframes()));
     // Retired keyframes (culled) are not part of the map kept: the rest are numbered anew.
     const std::vector<int> id = map_.DropRetired();
@@ -41,9 +40,9 @@ StoredMap System::TakeStoredMap() {
     stored.covisible = renumber(covisible_);
     for (size_t k = 0; k < covisibility.size(); ++k)
       if (id[k] >= 0) stored.covisibility.push_back(renumber(covisibility[k]));
-    stored.image_noise_sigma = std::max(0.0, stats_.image_noise_sigma);
-    stored.residual_level = track_.quality.ResidualLevel();
-    stored.texture_level = track_.quality.TextureLevel();
+    stored.image_noise_sigma = std::max(0.0, stats_->image_noise_sigma);
+    stored.residual_level = residual_level;
+    stored.texture_level = texture_level;
   }
   stored.map = std::move(map_);
   map_ = Map();
@@ -52,11 +51,11 @@ StoredMap System::TakeStoredMap() {
   return stored;
 }
 
-void System::RestoreMap(StoredMap stored, LoadedMapUse use) {
-  DSM_CHECK(state_ == TrackingState::kInitializing && seen_index_ < 0 && map_.NumKeyframes() == 0,
-            "a map is taken up by a new System, before its first frame");
+int MappingSide::RestoreMap(StoredMap* stored_map, bool localize) {
+  StoredMap& stored = *stored_map;
+  DSM_CHECK(map_.NumKeyframes() == 0, "a map is taken up by a new System, before its first frame");
   DSM_CHECK(stored.map.NumKeyframes() > 0, "a restored map has keyframes");
-  localizing_ = use == LoadedMapUse::kLocalize;
+  localizing_ = localize;
   if (localizing_)
     for (int k = 0; k < stored.map.NumKeyframes(); ++k) stored.map.keyframe(k).frozen = true;
   map_ = std::move(stored.map);
@@ -73,7 +72,6 @@ void System::RestoreMap(StoredMap stored, LoadedMapUse use) {
   loaded_points_ = map_.NumLivePoints();
   loaded_covisibility_ = stored.covisibility;
   loaded_covisibility_.resize(loaded_keyframes_);
-  next_keyframe_ = loaded_keyframes_;
 
   // The camera's speed per frame as the map has it: the median step between consecutive
   // keyframes over the frames between them.
@@ -89,13 +87,7 @@ void System::RestoreMap(StoredMap stored, LoadedMapUse use) {
   // The newest keyframe of the window is the reference lost frames are tried against first (with
   // those most like each frame), as for a camera lost from it.
   const int ref = window_.empty() ? loaded_keyframes_ - 1 : window_.back();
-  track_ = TrackingHistory{};
-  track_.quality = TrackingQuality(options_.quality);
-  track_.quality.Seed(stored.residual_level,
-                      std::vector<double>(stored.texture_level > 0.0 ? options_.quality.min_history : 0,
-                                          stored.texture_level));
-  track_.exposure = map_.keyframe(ref).exposure;
-  AdoptReference(MakeReference(ref, PointsSeenIn(ref), map_.keyframe(ref).PyramidOrRebuilt()));
+  Republish(MakeReference(ref, PointsSeenIn(ref), map_.keyframe(ref).PyramidOrRebuilt()));
   // The keyframes' ORB features, which relocalisation ranks and poses candidates by, are computed
   // now rather than on first use: the first frames of the run search the whole map, and a live
   // camera would drop frames while they are computed.
@@ -105,12 +97,11 @@ void System::RestoreMap(StoredMap stored, LoadedMapUse use) {
   // Loop closure recognises the loaded map's places as well as the run's own.
   if (LoopClosureActive())
     for (int k = 0; k < loaded_keyframes_; ++k) AddToPlaceIndex(k);
-  Transition(TrackingEvent::kMapLoaded);
-  suspended_ = true;
   if (localizing_) loaded_as_ = std::move(stored);  // All but its map, given back by TakeStoredMap.
+  return ref;
 }
 
-void System::RetireTemporaries(int newest) {
+void MappingSide::RetireTemporaries(int newest) {
   const auto in = [](const std::vector<int>& v, int k) { return std::find(v.begin(), v.end(), k) != v.end(); };
   if (std::none_of(covisible_.begin(), covisible_.end(), [&](int k) { return map_.keyframe(k).frozen; })) return;
   for (int k = loaded_keyframes_; k < newest; ++k) {

@@ -2,7 +2,7 @@
 // Relocalisation in the persistent map: a lost frame is aligned with keyframes of the map instead
 // of the last reference alone, and accepted only when it passes the same quality test as tracking
 // (tracking_quality.h) and lies within reach of the last trusted pose (TrackingQuality::CheckJump).
-// Tracking then resumes against that keyframe, in the same map and scale; System::Process holds
+// Tracking then resumes against that keyframe, in the same map and scale; TrackingSide::Process holds
 // the result as tentative until the next frame confirms it.
 //
 // Candidates: the reference the camera was lost from, then the `candidates` keyframes with the
@@ -20,7 +20,7 @@
 // computed once, kept in keyframe_features_), their matches (made once: those that rank a keyframe
 // also give its PnP pose) and the candidates' alignments run in parallel on both cores: the mapping
 // side waits while the camera is lost.
-// Each accepted pose leaves its evidence (SystemStats::Relocalisation, stats.json `relocalised`):
+// Each accepted pose leaves its evidence (TrackingStats::Relocalisation, stats.json `relocalised`):
 // the alignment's inlier share beside tracking's, its residual beside the level, whether the
 // prediction or three sightings accepted it, and its margin over the best alignment that passed
 // at another place.
@@ -35,35 +35,20 @@
 #include <tbb/parallel_for.h>
 
 #include "dsm/image/signature.h"
-#include "dsm/system/mapping_thread.h"
-#include "dsm/system/system.h"
 #include "dsm/system/system_internal.h"
+#include "dsm/system/tracking_side.h"
 #include "dsm/tracking/feature_pose.h"
 
 namespace dsm {
 
-void System::AdoptReference(std::shared_ptr<const TrackingReference> ref) {
-  {
-    std::lock_guard<std::mutex> lock(reference_mutex_);
-    published_ = ref;
-  }
+void TrackingSide::AdoptReference(std::shared_ptr<const TrackingReference> ref, IdleMap& map) {
+  map.Republish(ref);
   reference_ = std::move(ref);
   tracker_->SetReference(reference_->pyramid.get(), camera_, reference_->points);
   track_.first_rmse_after_keyframe = 0.0;
 }
 
-std::vector<ReferencePoint> System::PointsSeenIn(int kf) {
-  std::vector<int> ids;
-  for (int pid = 0; pid < map_.NumPoints(); ++pid) {
-    const Point& p = map_.point(pid);
-    if (p.removed) continue;
-    const Observation* o = p.host == kf ? nullptr : p.FindObservation(kf);
-    if (p.host == kf || (o != nullptr && !o->outlier)) ids.push_back(pid);
-  }
-  return ReferencePointsIn(kf, ids);
-}
-
-bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
+bool TrackingSide::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
   // Lost frames a, b and now, relocalised each on its own: a wrong pose (a place that looks alike,
   // a wrong minimum) is found by one frame, not by three that move on smoothly. The step a -> b
   // within the reach of the speed before the loss, the step b -> now within that of the constant
@@ -84,37 +69,40 @@ bool System::MovesAsOneCamera(const Sighting& now, double mean_idepth) const {
   return track_.quality.CheckJump(now_from_b, n2, internal::Scale(b_from_a, 1.0 / n1), mean_idepth).empty();
 }
 
-std::vector<int> System::RelocalisationCandidates(const ImagePyramid& pyramid, const FrameSignature& signature, int ref,
-                                                 OrbFeatures* frame_features,
-                                                 std::map<int, std::vector<cv::DMatch>>* matches) {
+std::vector<int> TrackingSide::RelocalisationCandidates(IdleMap& idle, const ImagePyramid& pyramid,
+                                                       const FrameSignature& signature, int ref,
+                                                       OrbFeatures* frame_features,
+                                                       std::map<int, std::vector<cv::DMatch>>* matches) {
+  const Map& map = idle.map();
+  std::map<int, OrbFeatures>& keyframe_features = idle.keyframe_features();
   // The reference, then the keyframes with the most feature matches among the kPool most alike by
   // thumbnail (a thumbnail alone ranks poorly after a large change of view). The keyframes'
   // features are computed on first use, in parallel with the frame's.
   constexpr int kPool = 12;
   std::vector<std::pair<double, int>> similar;
-  for (int k = 0; k < map_.NumKeyframes(); ++k)
-    if (k != ref && !map_.keyframe(k).retired)
-      similar.emplace_back(-Similarity(signature, map_.keyframe(k).signature), k);
+  for (int k = 0; k < map.NumKeyframes(); ++k)
+    if (k != ref && !map.keyframe(k).retired)
+      similar.emplace_back(-Similarity(signature, map.keyframe(k).signature), k);
   const int pool = std::min<int>(kPool, static_cast<int>(similar.size()));
   std::partial_sort(similar.begin(), similar.begin() + pool, similar.end());
   std::vector<int> unknown;  // Keyframes of the pool and the reference without features yet.
   for (int i = 0; i <= pool; ++i) {
     const int k = i < pool ? similar[i].second : ref;
-    if (!keyframe_features_.count(k)) unknown.push_back(k);
+    if (!keyframe_features.count(k)) unknown.push_back(k);
   }
   std::vector<OrbFeatures> detected(unknown.size());
   tbb::parallel_for(size_t{0}, unknown.size() + 1, [&](size_t i) {
     if (i == unknown.size())
       *frame_features = DetectOrbFeatures(pyramid, {});
     else
-      detected[i] = DetectOrbFeatures(map_.keyframe(unknown[i]).Level0(), {});
+      detected[i] = DetectOrbFeatures(map.keyframe(unknown[i]).Level0(), {});
   });
-  for (size_t i = 0; i < unknown.size(); ++i) keyframe_features_.emplace(unknown[i], std::move(detected[i]));
+  for (size_t i = 0; i < unknown.size(); ++i) keyframe_features.emplace(unknown[i], std::move(detected[i]));
   std::vector<std::vector<cv::DMatch>> pool_matches(pool);
   std::vector<std::tuple<int, int, int>> matched(pool);  // (-matches, keyframe, pool index)
   tbb::parallel_for(0, pool, [&](int i) {
     const int k = similar[i].second;
-    pool_matches[i] = MatchFeatures(*frame_features, keyframe_features_.at(k), {});
+    pool_matches[i] = MatchFeatures(*frame_features, keyframe_features.at(k), {});
     matched[i] = {-static_cast<int>(pool_matches[i].size()), k, i};
   });
   const int n = std::min<int>(options_.relocalisation.candidates, static_cast<int>(matched.size()));
@@ -128,9 +116,10 @@ std::vector<int> System::RelocalisationCandidates(const ImagePyramid& pyramid, c
   return candidates;
 }
 
-std::vector<SE3d> System::RelocalisationGuesses(int index, int k, const SE3d& still, const std::array<SE3d, 2>& motions,
-                                                const FeaturePose& feature_pose, size_t* first_sighted) const {
-  const Keyframe& kf = map_.keyframe(k);
+std::vector<SE3d> TrackingSide::RelocalisationGuesses(const Map& map, int index, int k, const SE3d& still,
+                                                      const std::array<SE3d, 2>& motions,
+                                                      const FeaturePose& feature_pose, size_t* first_sighted) const {
+  const Keyframe& kf = map.keyframe(k);
   std::vector<SE3d> guesses;
   if (feature_pose.ok) guesses.push_back(feature_pose.frame_from_keyframe);
   for (const SE3d& base : {still, motions[0] * still, motions[1] * still}) {
@@ -156,90 +145,86 @@ std::vector<SE3d> System::RelocalisationGuesses(int index, int k, const SE3d& st
   return guesses;
 }
 
-bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature, double exposure,
-                        const std::string& plain, TrackResult* result, SE3d* velocity, std::string* reason,
-                        SystemStats::Relocalisation* evidence) {
+TrackingSide::Aligned TrackingSide::AlignWithKeyframe(const SearchFrame& f, IdleMap& idle, int k,
+                                                      const OrbFeatures& frame_features,
+                                                      const std::vector<cv::DMatch>* matches) const {
+  // The two guesses of lowest coarse energy, refined, and the sightings' whatever their coarse energy.
+  const Map& map = idle.map();
+  const Keyframe& kf = map.keyframe(k);
+  Aligned out;
+  out.points = idle.PointsSeenIn(k);
+  if (out.points.empty()) return out;
+  out.pyramid = kf.PyramidOrRebuilt();
+  out.tracker = std::make_unique<FrameTracker>(f.tracker);
+  FrameTracker& tracker = *out.tracker;
+  tracker.SetReference(out.pyramid.get(), camera_, out.points);
+  out.mean_idepth = tracker.MeanIdepth();
+  const OrbFeatures& features = idle.keyframe_features().at(k);
+  const FeaturePose feature_pose = matches != nullptr
+                                       ? EstimateFeaturePose(frame_features, features, *matches, out.points, camera_, {})
+                                       : EstimateFeaturePose(frame_features, features, out.points, camera_, {});
+  size_t first_sighted = 0;
+  const std::vector<SE3d> guesses = RelocalisationGuesses(
+      map, f.index, k, f.last_from_world * kf.cam_from_world.Inverse(), f.motions, feature_pose, &first_sighted);
+  // Brightness: the last trusted frame's. A suspended map's (TrackingSide::Suspend) is from before
+  // the camera left it, and the light may have changed since: the best guess with the images'
+  // own statistics (signature.h) is aligned too. Not otherwise: between two views of different
+  // content the statistics are off by up to ~1.5x themselves, and the extra alignment can win
+  // with a wrong pose.
+  double alpha, beta;
+  internal::RelativeBrightness(f.last_brightness, f.exposure, kf.affine, kf.exposure, &alpha, &beta);
+  std::vector<std::pair<double, int>> ranked;
+  for (size_t g = 0; g < guesses.size(); ++g)
+    ranked.emplace_back(tracker.CoarseEnergyOverAll(*f.pyramid, guesses[g], alpha, beta), static_cast<int>(g));
+  std::stable_sort(ranked.begin(), ranked.end());
+  const int attempts = std::min<int>(2, static_cast<int>(ranked.size()));
+  for (size_t g = 0; g < ranked.size(); ++g) {
+    const SE3d& guess = guesses[ranked[g].second];
+    if (static_cast<int>(g) < attempts || static_cast<size_t>(ranked[g].second) >= first_sighted)
+      out.results.push_back(tracker.Track(*f.pyramid, guess, alpha, beta, f.since));
+    else
+      out.rest.push_back(guess);
+  }
+  out.alpha = alpha, out.beta = beta;
+  double image_alpha, image_beta;
+  if (suspended_ && ImageBrightness(*f.signature, kf.signature, &image_alpha, &image_beta)) {
+    std::pair<double, int> best_guess{INFINITY, 0};
+    for (size_t g = 0; g < guesses.size(); ++g)
+      best_guess = std::min(best_guess, {tracker.CoarseEnergyOverAll(*f.pyramid, guesses[g], image_alpha, image_beta),
+                                         static_cast<int>(g)});
+    out.results.push_back(tracker.Track(*f.pyramid, guesses[best_guess.second], image_alpha, image_beta, f.since));
+  }
+  return out;
+}
+
+bool TrackingSide::Relocalise(int index, const ImagePyramid& pyramid, const FrameSignature& signature,
+                              double exposure, const std::string& plain, TrackResult* result, SE3d* velocity,
+                              std::string* reason, TrackingStats::Relocalisation* evidence) {
   // The map is read below: the mapping side must be idle (nothing is handed to it while lost).
-  if (mapping_thread_) mapping_thread_->WaitUntilIdle(/*urgent=*/true);
+  IdleMap& idle = mapping_->WaitUntilIdle(/*urgent=*/true);
+  const Map& map = idle.map();
   UpdateReference(false);
   const int ref = reference_->keyframe;
   // The last trusted frame, in the world and in absolute brightness, as the map has it now.
-  const SE3d last_from_world = track_.last_frame_from_reference * map_.keyframe(ref).cam_from_world;
+  const SE3d last_from_world = track_.last_frame_from_reference * map.keyframe(ref).cam_from_world;
   const AffineBrightness last_brightness =
-      internal::FrameBrightness(map_.keyframe(ref).affine, map_.keyframe(ref).exposure, track_.alpha, track_.beta,
+      internal::FrameBrightness(map.keyframe(ref).affine, map.keyframe(ref).exposure, track_.alpha, track_.beta,
                                 track_.exposure);
   const int since = FramesSinceTrusted(index);
-  const SE3d moved = internal::Scale(track_.velocity, since);
-  const SE3d half = internal::Scale(track_.velocity, 0.5 * since);
-  // Coarse to fine over the whole pyramid: the frame may be far from every keyframe.
-  const TrackerOptions tracker_options = internal::OverLevels(options_.tracker, options_.pyramid_levels);
 
   OrbFeatures frame_features;
   std::map<int, std::vector<cv::DMatch>> matches;
-  const std::vector<int> candidates = RelocalisationCandidates(pyramid, signature, ref, &frame_features, &matches);
+  const std::vector<int> candidates = RelocalisationCandidates(idle, pyramid, signature, ref, &frame_features, &matches);
 
-  // Each candidate keyframe's alignments: the two guesses of lowest coarse energy, refined, and
-  // the sightings' whatever their coarse energy. The parallel stages write each result to its own
-  // slot; they are weighed in order below, so the outcome is that of a sequential loop.
-  struct Aligned {
-    std::vector<ReferencePoint> points;
-    std::shared_ptr<const ImagePyramid> pyramid;
-    double mean_idepth = 0.0;
-    std::vector<TrackResult> results;
-    // The alignment against the keyframe, and the guesses it did not refine (in the order of their
-    // coarse energy) with the brightness guessed: a second round may take them up.
-    std::unique_ptr<FrameTracker> tracker;
-    std::vector<SE3d> rest;
-    double alpha = 0.0, beta = 0.0;
-  };
+  // Each candidate keyframe's alignments, in parallel, each to its own slot; they are weighed in
+  // order below, so the outcome is that of a sequential loop.
+  const SearchFrame lost{index, &pyramid, &signature, exposure, since, last_from_world, last_brightness,
+                       {internal::Scale(track_.velocity, 0.5 * since), internal::Scale(track_.velocity, since)},
+                       internal::OverLevels(options_.tracker, options_.pyramid_levels)};
   std::vector<Aligned> aligned(candidates.size());
   tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t c) {
-    const int k = candidates[c];
-    const Keyframe& kf = map_.keyframe(k);
-    Aligned& out = aligned[c];
-    out.points = PointsSeenIn(k);
-    if (out.points.empty()) return;
-    out.pyramid = kf.PyramidOrRebuilt();
-    out.tracker = std::make_unique<FrameTracker>(tracker_options);
-    FrameTracker& tracker = *out.tracker;
-    tracker.SetReference(out.pyramid.get(), camera_, out.points);
-    out.mean_idepth = tracker.MeanIdepth();
-    const auto m = matches.find(k);
-    const FeaturePose feature_pose =
-        m != matches.end()
-            ? EstimateFeaturePose(frame_features, keyframe_features_.at(k), m->second, out.points, camera_, {})
-            : EstimateFeaturePose(frame_features, keyframe_features_.at(k), out.points, camera_, {});
-    size_t first_sighted = 0;
-    const std::vector<SE3d> guesses = RelocalisationGuesses(
-        index, k, last_from_world * kf.cam_from_world.Inverse(), {half, moved}, feature_pose, &first_sighted);
-    // Brightness: the last trusted frame's. A suspended map's (System::Suspend) is from before
-    // the camera left it, and the light may have changed since: the best guess with the images'
-    // own statistics (signature.h) is aligned too. Not otherwise: between two views of different
-    // content the statistics are off by up to ~1.5x themselves, and the extra alignment can win
-    // with a wrong pose.
-    double alpha, beta;
-    internal::RelativeBrightness(last_brightness, exposure, kf.affine, kf.exposure, &alpha, &beta);
-    std::vector<std::pair<double, int>> ranked;
-    for (size_t g = 0; g < guesses.size(); ++g)
-      ranked.emplace_back(tracker.CoarseEnergyOverAll(pyramid, guesses[g], alpha, beta), static_cast<int>(g));
-    std::stable_sort(ranked.begin(), ranked.end());
-    const int attempts = std::min<int>(2, static_cast<int>(ranked.size()));
-    for (size_t g = 0; g < ranked.size(); ++g) {
-      const SE3d& guess = guesses[ranked[g].second];
-      if (static_cast<int>(g) < attempts || static_cast<size_t>(ranked[g].second) >= first_sighted)
-        out.results.push_back(tracker.Track(pyramid, guess, alpha, beta, since));
-      else
-        out.rest.push_back(guess);
-    }
-    out.alpha = alpha, out.beta = beta;
-    double image_alpha, image_beta;
-    if (suspended_ && ImageBrightness(signature, kf.signature, &image_alpha, &image_beta)) {
-      std::pair<double, int> best_guess{INFINITY, 0};
-      for (size_t g = 0; g < guesses.size(); ++g)
-        best_guess = std::min(best_guess, {tracker.CoarseEnergyOverAll(pyramid, guesses[g], image_alpha, image_beta),
-                                           static_cast<int>(g)});
-      out.results.push_back(tracker.Track(pyramid, guesses[best_guess.second], image_alpha, image_beta, since));
-    }
+    const auto m = matches.find(candidates[c]);
+    aligned[c] = AlignWithKeyframe(lost, idle, candidates[c], frame_features, m != matches.end() ? &m->second : nullptr);
   });
 
   struct Found {
@@ -252,7 +237,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   // Every alignment that passed the quality test: the camera in the world and its median residual.
   std::vector<std::pair<SE3d, double>> passed;
   const auto cam_from_world = [&](const Found& f) {
-    return f.result.frame_from_keyframe * map_.keyframe(f.keyframe).cam_from_world;
+    return f.result.frame_from_keyframe * map.keyframe(f.keyframe).cam_from_world;
   };
   // A loaded map not yet tracked in this run (RestoreMap) has no trusted frame to predict from or
   // to measure a step against: its frames relocalise by three sightings alone.
@@ -271,9 +256,9 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
       Aligned& a = aligned[c];
       for (const TrackResult& r : a.results) {
         const SE3d step =
-            trusted ? r.frame_from_keyframe * map_.keyframe(k).cam_from_world * last_from_world.Inverse() : SE3d();
+            trusted ? r.frame_from_keyframe * map.keyframe(k).cam_from_world * last_from_world.Inverse() : SE3d();
         std::string fail = track_.quality.CheckTracking(r, step, since, a.mean_idepth, k != ref);
-        if (fail.empty()) passed.emplace_back(r.frame_from_keyframe * map_.keyframe(k).cam_from_world, r.residual_p50);
+        if (fail.empty()) passed.emplace_back(r.frame_from_keyframe * map.keyframe(k).cam_from_world, r.residual_p50);
         if (fail.empty() && (!sighted || r.residual_p50 < sighted->result.residual_p50))
           sighted = Found{r, k, &a};
         if (fail.empty()) {
@@ -341,7 +326,7 @@ bool System::Relocalise(int index, const ImagePyramid& pyramid, const FrameSigna
   // The keyframe becomes the reference of both sides: the mapping side is idle, and the next
   // keyframe it maps is made relative to it.
   if (best->keyframe != ref)
-    AdoptReference(MakeReference(best->keyframe, std::move(best->aligned->points), best->aligned->pyramid));
+    AdoptReference(idle.MakeReference(best->keyframe, std::move(best->aligned->points), best->aligned->pyramid), idle);
   *result = best->result;
   return true;
 }

@@ -32,7 +32,7 @@
 //    (and a loaded map's) held. Each keyframe takes its new pose, its points their host's scale
 //    (inverse depth times s: points are stored relative to their host). The next keyframes select
 //    the old keyframes as covisible and re-observe their points, and the loop bundle adjustment
-//    (System::AdjustLoop) refines the loop region once they reach back far enough.
+//    (MappingSide::AdjustLoop) refines the loop region once they reach back far enough.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -43,7 +43,7 @@
 #include "dsm/geometry/sim3_ransac.h"
 #include "dsm/optimization/pose_graph.h"
 #include "dsm/place/place_groups.h"
-#include "dsm/system/system.h"
+#include "dsm/system/mapping_side.h"
 #include "dsm/system/system_internal.h"
 #include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
@@ -126,22 +126,22 @@ double LinkedPath(const Map& map, const std::map<std::pair<int, int>, int>& shar
 
 }  // namespace
 
-const OrbFeatures& System::KeyframeFeatures(int k) {
+const OrbFeatures& MappingSide::KeyframeFeatures(int k) {
   auto it = keyframe_features_.find(k);
   if (it == keyframe_features_.end())
     it = keyframe_features_.emplace(k, DetectOrbFeatures(map_.keyframe(k).Level0(), {})).first;
   return it->second;
 }
 
-bool System::LoopClosureActive() const {
+bool MappingSide::LoopClosureActive() const {
   return options_.loop_closure.enabled && options_.mode == MapMode::kFull && !localizing_ && loop_.vocabulary != nullptr;
 }
 
-void System::AddToPlaceIndex(int k) {
+void MappingSide::AddToPlaceIndex(int k) {
   loop_.places.Add(k, loop_.vocabulary->Transform(KeyframeFeatures(k).descriptors));
 }
 
-bool System::DetectAndCloseLoop(int kf) {
+bool MappingSide::DetectAndCloseLoop(int kf) {
   if (!LoopClosureActive()) return false;
   const auto start = std::chrono::steady_clock::now();
   AddToPlaceIndex(kf);
@@ -174,15 +174,15 @@ bool System::DetectAndCloseLoop(int kf) {
     });
   }
   std::vector<int> to_verify = ConsistentGroups(scored, options_.loop_closure.consistent_keyframes, &loop_.groups,
-                                                     &stats_.loops_detected);
+                                                     &stats_->loops_detected);
   // One loop is closed at a time: the keyframes after a closure re-observe the old place, and the
   // loop adjustment follows.
   if (loop_.last_loop_keyframe >= 0 && kf - loop_.last_loop_keyframe < kLoopGap) to_verify.clear();
   // A place is closed once: the keyframes after a closure join it by re-observation, and a second
   // verification against its neighbours (a few matches at the closure's edge) can only disturb it.
   std::erase_if(to_verify, [&](int c) {
-    return std::any_of(stats_.loops_closed.begin(), stats_.loops_closed.end(),
-                       [&](const SystemStats::LoopClosure& l) { return InSamePlace(c, l.candidate); });
+    return std::any_of(stats_->loops_closed.begin(), stats_->loops_closed.end(),
+                       [&](const MappingStats::LoopClosure& l) { return InSamePlace(c, l.candidate); });
   });
   // The observations each pair of keyframes shares: for the drift bound and the pose graph, counted
   // once the first candidate is verified (the map does not change until the loop is corrected).
@@ -206,7 +206,7 @@ bool System::DetectAndCloseLoop(int kf) {
     if (move > kMaxCorrectionShare * path) continue;
     if (match.shift_px < kReobservePx) continue;
     CorrectLoop(kf, match, *shared);
-    SystemStats::LoopClosure& closed = stats_.loops_closed.back();
+    MappingStats::LoopClosure& closed = stats_->loops_closed.back();
     closed.inliers = match.inliers;
     closed.residual_ratio = match.residual_ratio;
     closed.shift_px = match.shift_px;
@@ -221,28 +221,28 @@ bool System::DetectAndCloseLoop(int kf) {
   return false;
 }
 
-void System::DetectMerge(int kf, const BowVector& bow, double floor) {
+void MappingSide::DetectMerge(int kf, const BowVector& bow, double floor) {
   if (loop_.merge_ready.load() >= 0) return;  // One merge at a time.
   for (LoopState::MergeSource& source : loop_.merge_sources) {
-    const Map& other = source.system->map_;
+    const Map& other = source.side->map_;
     // Residuals of one map sample all its images alike (Map::interpolation).
     if (other.interpolation() != map_.interpolation()) continue;
     const std::vector<std::pair<double, int>> scored =
-        source.system->loop_.places.Query(bow, floor, [&](int k) { return other.keyframe(k).retired; });
+        source.side->loop_.places.Query(bow, floor, [&](int k) { return other.keyframe(k).retired; });
     int found = 0;
     for (int c : ConsistentGroups(scored, options_.loop_closure.consistent_keyframes, &source.groups, &found)) {
       LoopMatch match;
-      if (!VerifyLoop(kf, *source.system, c, &match)) continue;
+      if (!VerifyLoop(kf, *source.side, c, &match)) continue;
       // Two maps share no path, so no share of it bounds the correction: the verification alone
       // decides (perceptual aliasing between maps is not caught).
-      loop_.pending_merge = LoopState::PendingMerge{source.system, kf, match};
+      loop_.pending_merge = LoopState::PendingMerge{source.side, kf, match};
       loop_.merge_ready.store(source.id);
       return;
     }
   }
 }
 
-bool System::VerifyLoop(int kf, System& owner, int c, LoopMatch* match) {
+bool MappingSide::VerifyLoop(int kf, MappingSide& owner, int c, LoopMatch* match) {
   const OrbFeatures& fk = KeyframeFeatures(kf);
   const OrbFeatures& fc = owner.KeyframeFeatures(c);
   const std::vector<cv::DMatch> matches = MatchFeatures(fk, fc, {});
@@ -333,7 +333,7 @@ bool System::VerifyLoop(int kf, System& owner, int c, LoopMatch* match) {
   return true;
 }
 
-void System::CorrectLoop(int kf, const LoopMatch& match, const std::map<std::pair<int, int>, int>& shared) {
+void MappingSide::CorrectLoop(int kf, const LoopMatch& match, const std::map<std::pair<int, int>, int>& shared) {
   const int c = match.candidate;
   const std::vector<int> ids = AllKeyframes();
   std::map<int, int> node;
@@ -404,14 +404,14 @@ void System::CorrectLoop(int kf, const LoopMatch& match, const std::map<std::pai
   const std::vector<Eigen::Vector2d> corrected = OptimizeBrightnessGraph(ab, brightness, fixed);
   for (int k : ids) map_.keyframe(k).affine = {corrected[node[k]].x(), corrected[node[k]].y()};
   const SE3d& after = map_.keyframe(kf).cam_from_world;
-  SystemStats::LoopClosure closed;
+  MappingStats::LoopClosure closed;
   closed.frame = map_.keyframe(kf).frame_index;
   closed.keyframe = kf;
   closed.candidate = c;
   closed.translation_share = path > 0.0 ? (after.Inverse().Translation() - before.Inverse().Translation()).norm() / path : 0.0;
   closed.rotation_deg = (after.So3() * before.So3().Inverse()).Log().norm() * 180.0 / M_PI;
   closed.scale = graph.cam_from_world[node[kf]].Scale();
-  stats_.loops_closed.push_back(closed);
+  stats_->loops_closed.push_back(closed);
   // The next keyframes re-observe the old points; once their covisible keyframes reach back far
   // enough, the loop is bundle-adjusted (AdjustLoop).
   loop_ba_pending_ = true;

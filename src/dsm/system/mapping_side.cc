@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Keyframe mapping: observations, window, activation, bundle adjustment, culling, candidates.
+// The mapping side's work on each tracked frame and keyframe: candidate tracing, observations,
+// window, activation, bundle adjustment, point culling, candidates, the tracking reference.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -15,13 +16,20 @@
 #include "dsm/mapping/window.h"
 #include "dsm/optimization/pba.h"
 #include "dsm/system/mapping_thread.h"
-#include "dsm/system/system.h"
+#include "dsm/system/mapping_side.h"
+#include "dsm/system/system_internal.h"
 #include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
 
 namespace dsm {
 
 namespace {
+
+using internal::MsSince;
+
+AffineBrightness FrameBrightness(const Keyframe& ref, double alpha, double beta, double exposure) {
+  return internal::FrameBrightness(ref.affine, ref.exposure, alpha, beta, exposure);
+}
 
 // The level-0 distance map of keyframe `target` with the projections of the points `ids`.
 DistanceMap ProjectedDistanceMap(const Map& map, const PinholeCamera& camera, const std::vector<int>& ids, int target) {
@@ -36,7 +44,123 @@ DistanceMap ProjectedDistanceMap(const Map& map, const PinholeCamera& camera, co
 
 }  // namespace
 
-void System::CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const ImagePyramid> pyramid, double exposure,
+MappingSide::MappingSide(const PinholeCamera& camera, const SystemOptions& options, const SystemSetup& setup,
+                         MappingStats* stats)
+    : camera_(camera),
+      options_(options),
+      setup_(setup),
+      stats_(stats),
+      min_activation_distance_px_(options.activation.initial_min_distance_px) {
+  if (options_.loop_closure.enabled && options_.mode == MapMode::kFull) {
+    if (options_.loop_closure.vocabulary.empty()) {
+      loop_.vocabulary = &Vocabulary::BuiltIn();
+    } else {
+      loop_.own_vocabulary = std::make_unique<Vocabulary>(Vocabulary::Read(options_.loop_closure.vocabulary));
+      loop_.vocabulary = loop_.own_vocabulary.get();
+    }
+  }
+}
+
+MappingSide::~MappingSide() = default;
+
+void MappingSide::ChooseNoiseHandling(double noise_sigma) {
+  stats_->image_noise_sigma = noise_sigma;
+  if (stats_->image_noise_sigma < options_.candidates.contrast_min_noise) options_.candidates.contrast_factor = 0.f;
+  stats_->contrast_floor = options_.candidates.contrast_factor > 0.f;
+  bool bspline = options_.interpolation == "bspline" ||
+                 (options_.interpolation == "auto" && stats_->image_noise_sigma >= options_.bspline_min_noise);
+  // A loaded map's points were sampled its way: it keeps it.
+  if (map_.NumPoints() > 0) bspline = map_.interpolation() == Interpolation::kBSpline;
+  if (map_.NumPoints() == 0) map_.set_interpolation(bspline ? Interpolation::kBSpline : Interpolation::kBilinear);
+  stats_->interpolation = bspline ? "bspline" : "bilinear";
+  TextureLossOptions& texture = options_.pba.texture_loss;
+  if (options_.mode == MapMode::kFull && options_.texture_loss_min_noise > 0.0 &&
+      stats_->image_noise_sigma >= options_.texture_loss_min_noise)
+    texture.max_variance_ratio = kTextureLossRatio;
+  stats_->texture_loss = texture.max_variance_ratio > 0.0;
+}
+
+void MappingSide::RunFinishJob(int kf) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FinishKeyframe(kf);
+  stats_->mapping_ms.push_back(keyframe_ms_ + MsSince(t0));
+}
+
+void MappingSide::RunJob(const MappingJob& job) {
+  const auto t0 = std::chrono::steady_clock::now();
+  // A rolling shutter's frame is traced and mapped as the global shutter at its timestamp
+  // would have seen it.
+  const std::shared_ptr<const ImagePyramid> pyramid =
+      job.readout.line_delay_s > 0.0 ? internal::GlobalShutterPyramid(*job.pyramid, camera_, job.readout, options_.pyramid_levels) : job.pyramid;
+  TraceCandidates(*pyramid, job.reference, job.frame_from_reference, job.alpha, job.beta, job.exposure);
+  stats_->tracing_ms.push_back(MsSince(t0));
+  if (job.relocalisations > relocalisations_mapped_) {
+    relocalisations_mapped_ = job.relocalisations;
+    loop_ba_pending_ = true;
+    seam_first_ = map_.NumKeyframes();
+    rejoin_first_ = seam_first_;
+  }
+  if (job.keyframe < 0) return;
+  // Tracking resumed against an older keyframe (relocalisation): it rejoins the temporal window,
+  // with its points, so that the new keyframe is mapped against the part of the map it sees.
+  if (std::find(window_.begin(), window_.end(), job.reference) == window_.end() &&
+      std::find(covisible_.begin(), covisible_.end(), job.reference) == covisible_.end()) {
+    window_.push_back(job.reference);
+  }
+  const Keyframe& ref = map_.keyframe(job.reference);
+  CreateKeyframe(job.index, job.t_ns, pyramid, job.exposure, job.frame_from_reference * ref.cam_from_world,
+                 FrameBrightness(ref, job.alpha, job.beta, job.exposure));
+  const int kf = map_.NumKeyframes() - 1;
+  DSM_CHECK(kf == job.keyframe, "keyframes were mapped out of order");
+  map_.keyframe(kf).error_model = job.model;
+  MapNewKeyframe(kf);
+  stats_->per_keyframe.back().tracking_rmse = job.rmse;
+  stats_->per_keyframe.back().tracking_inlier_ratio = job.inlier_ratio;
+  keyframe_ms_ = MsSince(t0);
+}
+
+void MappingSide::TraceCandidates(const ImagePyramid& pyramid, int reference, const SE3d& frame_from_reference,
+                             double alpha, double beta, double exposure) {
+  const Keyframe& ref = map_.keyframe(reference);
+  const AffineBrightness frame = FrameBrightness(ref, alpha, beta, exposure);
+  const SE3d frame_from_world = frame_from_reference * ref.cam_from_world;
+  for (int h : window_) {
+    auto it = candidates_.find(h);
+    if (it == candidates_.end()) continue;
+    const Keyframe& host = map_.keyframe(h);
+    const SE3d frame_from_host = frame_from_world * host.cam_from_world.Inverse();
+    Transfer tr;
+    tr.s = static_cast<float>(BrightnessRatio(host.affine, frame, host.exposure, exposure));
+    tr.b_host = static_cast<float>(host.affine.b);
+    tr.b_frame = static_cast<float>(frame.b);
+    // Each candidate is traced on its own: in parallel, with the result of a sequential loop.
+    std::vector<Candidate>& candidates = it->second;
+    tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t i) {
+      Candidate& c = candidates[i];
+      if (c.removed) return;
+      const TraceStatus s = TraceCandidate(&c, pyramid, camera_, frame_from_host, tr, options_.epipolar);
+      if (s == TraceStatus::kOutOfBounds || (s == TraceStatus::kOutlier && c.outlier_count >= 2)) c.removed = true;
+    });
+  }
+}
+
+Trajectory MappingSide::KeyframeTrajectory() const {
+  // In time order: a merged map's keyframes follow this map's in ids (MergeVerified).
+  std::vector<int> ids;
+  for (int k = loaded_keyframes_; k < map_.NumKeyframes(); ++k) ids.push_back(k);
+  std::stable_sort(ids.begin(), ids.end(), [&](int a, int b) { return map_.keyframe(a).t_ns < map_.keyframe(b).t_ns; });
+  Trajectory t;
+  for (int k : ids) t.Add(map_.keyframe(k).t_ns, map_.keyframe(k).WorldFromCam());
+  return t;
+}
+
+double MappingSide::InitBaseline() const {
+  return (map_.keyframe(1).cam_from_world.Inverse().Translation() -
+          map_.keyframe(0).cam_from_world.Inverse().Translation())
+      .norm();
+}
+
+void MappingSide::CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                             const SE3d& cam_from_world, const AffineBrightness& affine) {
   auto kf = std::make_unique<Keyframe>();
   kf->frame_index = index;
@@ -50,16 +174,16 @@ void System::CreateKeyframe(int index, int64_t t_ns, std::shared_ptr<const Image
   kf->error_model = DefaultErrorModel(options_.pba.robust);
   kf->signature = ComputeSignature(*kf->pyramid);
   map_.AddKeyframe(std::move(kf));
-  ++stats_.keyframes;
+  ++stats_->keyframes;
 }
 
-std::vector<int> System::ActiveKeyframes() const {
+std::vector<int> MappingSide::ActiveKeyframes() const {
   std::vector<int> active = window_;
   active.insert(active.end(), covisible_.begin(), covisible_.end());
   return active;
 }
 
-std::vector<int> System::ActivePointIds() const {
+std::vector<int> MappingSide::ActivePointIds() const {
   std::vector<int> ids;
   for (int kf : ActiveKeyframes())
     for (int pid : map_.keyframe(kf).points)
@@ -67,8 +191,8 @@ std::vector<int> System::ActivePointIds() const {
   return ids;
 }
 
-void System::MapNewKeyframe(int kf) {
-  stats_.per_keyframe.push_back({map_.keyframe(kf).frame_index, 0, 0, {}});
+void MappingSide::MapNewKeyframe(int kf) {
+  stats_->per_keyframe.push_back({map_.keyframe(kf).frame_index, 0, 0, {}});
   map_.LoadPyramids(window_);
   // Observations of the temporal window's points in the new keyframe, unless a nearer part of the
   // map hides them there (the PBA verifies the rest).
@@ -95,7 +219,7 @@ void System::MapNewKeyframe(int kf) {
   // asked otherwise (moving them cost accuracy on every synthetic scene).
   const std::vector<int> held = options_.window.optimize_covisible_poses ? std::vector<int>{} : covisible_;
   const PbaSummary pba = RunPba(&map_, camera_, ActiveKeyframes(), options_.pba, HeldWithLoaded(held));
-  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  MappingStats::KeyframeLog& log = stats_->per_keyframe.back();
   log.pba_keyframes = pba.keyframes;
   log.pba_fixed_keyframes = pba.fixed_keyframes;
   log.pba_points = pba.points;
@@ -104,7 +228,7 @@ void System::MapNewKeyframe(int kf) {
   log.pba_ms = pba.time_ms;
   log.observations_removed = pba.observations_removed;
   log.observations_texture_lost = pba.observations_texture_lost;
-  stats_.pba_ms.push_back(pba.time_ms);
+  stats_->pba_ms.push_back(pba.time_ms);
   log.points_culled = CullPoints();
   // What the keyframe sees after its adjustment: the window's points hosted or observed (inlier)
   // in it, and of those the covisible keyframes' (the map before the temporal window).
@@ -120,30 +244,30 @@ void System::MapNewKeyframe(int kf) {
   PublishTrackingReference();
 }
 
-bool System::AdjustYoungMap() {
+bool MappingSide::AdjustYoungMap() {
   if (!options_.YoungMapBaDue(map_.NumKeyframes())) return false;
   Adjustment a;
   a.young = true;
   a.options = options_.pba;
-  a.log = stats_.per_keyframe.size() - 1;
-  a.stat = stats_.young_map_ba_ms.size();
-  stats_.per_keyframe.back().young_map_ba_keyframes = map_.NumKeyframes();
-  stats_.young_map_ba_ms.push_back(0.0);
+  a.log = stats_->per_keyframe.size() - 1;
+  a.stat = stats_->young_map_ba_ms.size();
+  stats_->per_keyframe.back().young_map_ba_keyframes = map_.NumKeyframes();
+  stats_->young_map_ba_ms.push_back(0.0);
   Adjust(std::move(a));
   return true;
 }
 
-bool System::RunParked() {
+bool MappingSide::RunParked() {
   std::vector<Adjustment> parked;
   parked.swap(parked_);
   for (Adjustment& a : parked) Adjust(std::move(a));
   return !parked.empty();
 }
 
-void System::Adjust(Adjustment a) {
+void MappingSide::Adjust(Adjustment a) {
   PbaYield yield;
-  if (mapping_thread_ && setup_.yield_adjustments) {
-    yield.now = [this] { return mapping_thread_->KeyframesPending() > 0 || mapping_thread_->Urgent(); };
+  if (thread_ && setup_.yield_adjustments) {
+    yield.now = [this] { return thread_->KeyframesPending() > 0 || thread_->Urgent(); };
   }
   yield.level = a.level;
   yield.iterations = a.iterations;
@@ -153,28 +277,28 @@ void System::Adjust(Adjustment a) {
   std::erase_if(a.held, retired);
   const PbaSummary s =
       RunPba(&map_, camera_, a.young ? AllKeyframes() : a.keyframes, a.options, HeldWithLoaded(a.held), yield);
-  SystemStats::KeyframeLog& log = stats_.per_keyframe[a.log];
+  MappingStats::KeyframeLog& log = stats_->per_keyframe[a.log];
   if (a.young) {
     log.young_map_ba_ms += s.time_ms;
     log.young_map_ba_iterations += s.iterations;
     log.young_map_ba_observations = s.observations;
-    stats_.young_map_ba_ms[a.stat] += s.time_ms;
+    stats_->young_map_ba_ms[a.stat] += s.time_ms;
   } else {
     log.loop_ba_ms += s.time_ms;
-    stats_.loop_ba_ms[a.stat] += s.time_ms;
+    stats_->loop_ba_ms[a.stat] += s.time_ms;
   }
   if (!s.yielded) return;
-  ++stats_.adjustments_yielded;
+  ++stats_->adjustments_yielded;
   a.level = s.level;
   a.iterations = s.level_iterations;
-  if (mapping_thread_->KeyframesPending() == 0) {
+  if (thread_->KeyframesPending() == 0) {
     // A relocalisation waits for the mapping side to be idle (nothing is handed to it while lost):
     // the rest runs after the next keyframe (FinishKeyframe), or at the end (Finish).
     parked_.push_back(std::move(a));
     return;
   }
-  // Behind the waiting keyframe's jobs (System::Submit queues both at once), then published again.
-  mapping_thread_->Submit(
+  // Behind the waiting keyframe's jobs (MappingSide::Submit queues both at once), then published again.
+  thread_->Submit(
       [this, a = std::move(a)] {
         Adjust(a);
         PublishTrackingReference();
@@ -205,7 +329,7 @@ double ReachInDepths(const Map& map, int from, int to, const std::vector<int>& w
 
 }  // namespace
 
-bool System::AdjustLoop(int newest) {
+bool MappingSide::AdjustLoop(int newest) {
   if (options_.mode != MapMode::kFull || covisible_.empty()) return false;
   const int oldest = *std::min_element(covisible_.begin(), covisible_.end());
   const int after_loss = options_.loop_ba_after_relocalisation;
@@ -232,27 +356,27 @@ bool System::AdjustLoop(int newest) {
   return true;
 }
 
-PbaOptions System::LoopBaOptions() const {
+PbaOptions MappingSide::LoopBaOptions() const {
   PbaOptions pba = options_.pba;
   if (options_.loop_ba_max_iterations > 0) pba.max_iterations = options_.loop_ba_max_iterations;
   return pba;
 }
 
-void System::AdjustAfterNewest(std::vector<int> keyframes, std::vector<int> held, const PbaOptions& pba, bool seam) {
+void MappingSide::AdjustAfterNewest(std::vector<int> keyframes, std::vector<int> held, const PbaOptions& pba, bool seam) {
   Adjustment a;
   a.options = pba;
-  a.log = stats_.per_keyframe.size() - 1;
-  a.stat = stats_.loop_ba_ms.size();
-  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  a.log = stats_->per_keyframe.size() - 1;
+  a.stat = stats_->loop_ba_ms.size();
+  MappingStats::KeyframeLog& log = stats_->per_keyframe.back();
   log.loop_ba_keyframes = static_cast<int>(keyframes.size() - held.size());
   log.loop_ba_seam = seam;  // When both ran: the last one's.
-  stats_.loop_ba_ms.push_back(0.0);
+  stats_->loop_ba_ms.push_back(0.0);
   a.keyframes = std::move(keyframes);
   a.held = std::move(held);
   Adjust(std::move(a));
 }
 
-bool System::AdjustSeam(int newest) {
+bool MappingSide::AdjustSeam(int newest) {
   if (options_.mode != MapMode::kFull || seam_first_ < 0 || newest < seam_first_) return false;
   const int after = newest - seam_first_ + 1;  // Keyframes mapped since the relocalisation.
   if (after > options_.seam_ba_step * options_.seam_ba_count) {
@@ -285,7 +409,7 @@ bool System::AdjustSeam(int newest) {
   return true;
 }
 
-void System::FinishKeyframe(int kf) {
+void MappingSide::FinishKeyframe(int kf) {
   SelectCandidates(kf);
   if (kf == kInitTrackingKeyframe) TrackInitFrames();
   // The young map's and the loop adjustments after publication (in the two-thread paces tracking
@@ -302,14 +426,14 @@ void System::FinishKeyframe(int kf) {
   }
   if (DetectAndCloseLoop(kf)) adjusted = true;
   if (adjusted) PublishTrackingReference();
-  if (setup_.keyframe_features && mapping_thread_) KeyframeFeatures(kf);
+  if (setup_.keyframe_features && thread_) KeyframeFeatures(kf);
   // Keyframes keep their pyramids while a recent mapping step used them.
   map_.ReleaseUnusedPyramids(options_.keep_pyramid_keyframes);
-  stats_.pyramids_loaded_max = std::max(stats_.pyramids_loaded_max, map_.NumLoadedPyramids());
-  stats_.pyramids_rebuilt = map_.NumPyramidsRebuilt();
+  stats_->pyramids_loaded_max = std::max(stats_->pyramids_loaded_max, map_.NumLoadedPyramids());
+  stats_->pyramids_rebuilt = map_.NumPyramidsRebuilt();
 }
 
-void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const {
+void MappingSide::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, OcclusionGrid* grid) const {
   for (int h : keyframes)
     for (int pid : map_.keyframe(h).points) {
       const Point& p = map_.point(pid);
@@ -319,11 +443,11 @@ void System::AddToOcclusionGrid(const std::vector<int>& keyframes, int target, O
     }
 }
 
-void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
+void MappingSide::SelectCovisible(int newest, OcclusionGrid* occlusion) {
   covisible_.clear();
   if (options_.mode != MapMode::kFull) return;
   DistanceMap distance = ProjectedDistanceMap(map_, camera_, ActivePointIds(), newest);
-  SystemStats::KeyframeLog& log = stats_.per_keyframe.back();
+  MappingStats::KeyframeLog& log = stats_->per_keyframe.back();
   CovisibleSelection selection = SelectCovisibleKeyframes(map_, camera_, window_, options_.window, &distance);
   // Old points cover the newest keyframe's view where they are visible in it.
   old_pixels_.clear();
@@ -347,30 +471,30 @@ void System::SelectCovisible(int newest, OcclusionGrid* occlusion) {
       ++log.reobservations;
     }
   }
-  stats_.covisible_keyframes_selected += static_cast<int>(covisible_.size());
-  stats_.reobservations += log.reobservations;
+  stats_->covisible_keyframes_selected += static_cast<int>(covisible_.size());
+  stats_->reobservations += log.reobservations;
 }
 
-std::vector<int> System::AllKeyframes() const {
+std::vector<int> MappingSide::AllKeyframes() const {
   std::vector<int> all;
   for (int k = 0; k < map_.NumKeyframes(); ++k)
     if (!map_.keyframe(k).retired) all.push_back(k);
   return all;
 }
 
-PbaSummary System::AdjustWholeMap() { return RunPba(&map_, camera_, AllKeyframes(), options_.pba, HeldWithLoaded({})); }
+PbaSummary MappingSide::AdjustWholeMap() { return RunPba(&map_, camera_, AllKeyframes(), options_.pba, HeldWithLoaded({})); }
 
-std::vector<int> System::HeldWithLoaded(std::vector<int> held) const {
+std::vector<int> MappingSide::HeldWithLoaded(std::vector<int> held) const {
   for (int k = 0; k < loaded_keyframes_; ++k) held.push_back(k);
   return held;
 }
 
-void System::RunGlobalBundleAdjustment() {
+void MappingSide::RunGlobalBundleAdjustment() {
   if (map_.NumKeyframes() < 2) return;
-  stats_.global_ba_ms = AdjustWholeMap().time_ms;
+  stats_->global_ba_ms = AdjustWholeMap().time_ms;
 }
 
-void System::AdjustWholeMapFrom(const Trajectory& world_from_cam) {
+void MappingSide::AdjustWholeMapFrom(const Trajectory& world_from_cam) {
   for (size_t i = 0; i < world_from_cam.size(); ++i) {
     for (int k = 0; k < map_.NumKeyframes(); ++k) {
       Keyframe& keyframe = map_.keyframe(k);
@@ -385,7 +509,7 @@ void System::AdjustWholeMapFrom(const Trajectory& world_from_cam) {
   }
 }
 
-std::vector<uint8_t> System::SeenIn(const std::vector<int>& ids, int target) {
+std::vector<uint8_t> MappingSide::SeenIn(const std::vector<int>& ids, int target) {
   map_.LoadPyramids({target});  // The hosts' side is the points' own patch.
   const Keyframe& keyframe = map_.keyframe(target);
   std::vector<uint8_t> seen(ids.size(), 0);
@@ -400,7 +524,7 @@ std::vector<uint8_t> System::SeenIn(const std::vector<int>& ids, int target) {
   return seen;
 }
 
-void System::ActivateCandidates(int newest) {
+void MappingSide::ActivateCandidates(int newest) {
   const std::vector<int> active = ActivePointIds();
   // Only points seen in the newest keyframe cover its image: one hidden behind a new occluder
   // would keep the occluder from getting points of its own.
@@ -448,14 +572,14 @@ void System::ActivateCandidates(int newest) {
       probe.created_at_keyframe = map_.NumKeyframes();
       for (int t : refined.targets) probe.observations.push_back({t, false});
       map_.AddPoint(probe);
-      ++stats_.points_created;
-      ++stats_.per_keyframe.back().points_created;
+      ++stats_->points_created;
+      ++stats_->per_keyframe.back().points_created;
       if (ProjectPoint(map_, camera_, probe, newest, 0.f, &px, &rho)) distance.Add(px);
     }
   }
 }
 
-int System::CullPoints() {
+int MappingSide::CullPoints() {
   const int num_keyframes = map_.NumKeyframes();
   int culled = 0;
   for (int pid : ActivePointIds()) {
@@ -480,7 +604,7 @@ int System::CullPoints() {
   return culled;
 }
 
-void System::SelectCandidates(int kf) {
+void MappingSide::SelectCandidates(int kf) {
   std::vector<Candidate>& list = candidates_[kf];
   list.clear();
   const Keyframe& keyframe = map_.keyframe(kf);
@@ -490,7 +614,18 @@ void System::SelectCandidates(int kf) {
   }
 }
 
-std::vector<ReferencePoint> System::ReferencePointsIn(int kf, const std::vector<int>& ids, bool adjusted) {
+std::vector<ReferencePoint> MappingSide::PointsSeenIn(int kf) {
+  std::vector<int> ids;
+  for (int pid = 0; pid < map_.NumPoints(); ++pid) {
+    const Point& p = map_.point(pid);
+    if (p.removed) continue;
+    const Observation* o = p.host == kf ? nullptr : p.FindObservation(kf);
+    if (p.host == kf || (o != nullptr && !o->outlier)) ids.push_back(pid);
+  }
+  return ReferencePointsIn(kf, ids);
+}
+
+std::vector<ReferencePoint> MappingSide::ReferencePointsIn(int kf, const std::vector<int>& ids, bool adjusted) {
   std::vector<ReferencePoint> points;
   const bool verified = adjusted && options_.tracker.verified_reference;
   for (int pid : ids) {
@@ -505,18 +640,12 @@ std::vector<ReferencePoint> System::ReferencePointsIn(int kf, const std::vector<
   return points;
 }
 
-void System::PublishTrackingReference() {
+void MappingSide::PublishTrackingReference() {
   const int newest = window_.back();
   PublishReference(newest, ReferencePointsIn(newest, ActivePointIds()));
 }
 
-void System::PublishReference(int kf, std::vector<ReferencePoint> points) {
-  std::shared_ptr<const TrackingReference> ref = MakeReference(kf, std::move(points));
-  std::lock_guard<std::mutex> lock(reference_mutex_);
-  published_ = std::move(ref);
-}
-
-std::shared_ptr<const TrackingReference> System::MakeReference(
+std::shared_ptr<const TrackingReference> MappingSide::MakeReference(
     int kf, std::vector<ReferencePoint> points, std::shared_ptr<const ImagePyramid> pyramid) const {
   auto ref = std::make_shared<TrackingReference>();
   ref->points = std::move(points);
@@ -539,8 +668,8 @@ std::shared_ptr<const TrackingReference> System::MakeReference(
     }
     for (size_t k = 0; k < loaded_covisibility_.size(); ++k)
       for (int c : loaded_covisibility_[k]) snapshot->covisibility.emplace_back(static_cast<int>(k), c);
-    for (size_t k = 0; k < stats_.per_keyframe.size(); ++k)
-      for (int c : stats_.per_keyframe[k].covisible)
+    for (size_t k = 0; k < stats_->per_keyframe.size(); ++k)
+      for (int c : stats_->per_keyframe[k].covisible)
         snapshot->covisibility.emplace_back(loaded_keyframes_ + static_cast<int>(k), c);
     ref->snapshot = std::move(snapshot);
   }
