@@ -12,25 +12,82 @@
 
 namespace dsm::cli {
 
-Command AddRun(CLI::App& app) {
-  struct Args {
-    std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
-    double progress_interval = 10.0;
-    double latency_target_ms = std::numeric_limits<double>::infinity();
-    int port = 8080;
-    double view_wait = 0.0;
-    bool view = false;
-    int start = 0, end = -1, workers = 0;
-    std::optional<int> nt, nc, pba_levels;
-    std::optional<double> line_delay_us;
-    bool print_config = false;
-    bool quiet = false, no_map = false, no_report = false, global_ba = false, no_loop_closure = false, truth_ba = false, sequential = false,
-         realtime = false, localize = false;
-    std::string save_map, load_map;
-    GtArgs gt;
-    VideoArgs video;
+namespace {
+
+struct RunArgs {
+  std::string dataset, out = "dsm_out", mode = "dsm", config, robust, debug;
+  double progress_interval = 10.0;
+  double latency_target_ms = std::numeric_limits<double>::infinity();
+  int port = 8080;
+  double view_wait = 0.0;
+  bool view = false;
+  int start = 0, end = -1, workers = 0;
+  std::optional<int> nt, nc, pba_levels;
+  std::optional<double> line_delay_us;
+  bool print_config = false;
+  bool quiet = false, no_map = false, no_report = false, global_ba = false, no_loop_closure = false, truth_ba = false, sequential = false,
+       realtime = false, localize = false;
+  std::string save_map, load_map;
+  GtArgs gt;
+  VideoArgs video;
+};
+
+// The run's options from the command line (--print-config: the system's options alone).
+RunOptions OptionsFrom(const RunArgs& a) {
+  RunOptions options;
+  options.system.mode = ParseMapMode(a.mode, "--mode");
+  if (!a.config.empty()) ApplyOptionsYaml(a.config, &options.system);
+  SystemOptions& o = options.system;
+  // A flag's value is checked by the option it sets, with the flag named in the message.
+  const auto set = [&o](const char* flag, const std::optional<int>& value, int* field) {
+    if (!value) return;
+    *field = *value;
+    try {
+      o.Validate();
+    } catch (const InputError& e) {
+      throw InputError(std::string(flag) + " " + std::to_string(*value) + ": " + e.what());
+    }
   };
-  auto a = std::make_shared<Args>();
+  set("--nt", a.nt, &o.window.temporal_keyframes);
+  set("--nc", a.nc, &o.window.covisible_keyframes);
+  set("--pba-levels", a.pba_levels, &o.pba.levels);
+  if (a.no_loop_closure) o.loop_closure.enabled = false;
+  if (!a.robust.empty()) o.pba.robust.kind = o.tracker.robust.kind = ParseRobustKind(a.robust, "--robust");
+  options.system.Validate();
+  if (a.print_config) return options;
+  if (a.dataset.empty()) throw InputError("run: DATASET is required (a dataset folder, or a video file with --calib)");
+  options.global_ba = a.global_ba;
+  options.truth_ba = a.truth_ba;
+  options.start = a.start;
+  options.end = a.end;
+  options.quiet = a.quiet;
+  if (!(a.progress_interval >= 0.0)) throw InputError("--progress-interval must be >= 0 seconds");
+  options.progress_interval_s = a.progress_interval;
+  if (!(a.latency_target_ms >= 0.0)) throw InputError("--latency-target-ms must be >= 0");
+  options.realtime_latency_target_ms = a.latency_target_ms;
+  options.write_map = !a.no_map;
+  options.write_report = !a.no_report;
+  options.save_map = a.save_map;
+  options.load_map = a.load_map;
+  options.localize = a.localize;
+  if (a.port < 0 || a.port > 65535) throw InputError("--port must be 0..65535");
+  options.view_port = a.view ? a.port : -1;
+  if (!(a.view_wait >= 0.0) || a.view_wait > 86400.0) throw InputError("--view-wait must be 0..86400 seconds");
+  if (a.view_wait > 0.0 && !a.view) throw InputError("--view-wait needs --view");
+  options.view_wait_s = a.view_wait;
+  options.debug_dir = a.debug;
+  options.workers = a.workers;
+  if (a.sequential && a.realtime) throw InputError("--sequential and --realtime exclude each other");
+  options.pace = a.sequential ? Pace::kSequential : a.realtime ? Pace::kRealtime : Pace::kFree;
+  // The per-keyframe diagnostics read the map after each keyframe: only sequential allows that.
+  if (!options.debug_dir.empty() && !a.realtime) options.pace = Pace::kSequential;
+  return options;
+}
+
+}  // namespace
+
+Command AddRun(CLI::App& app) {
+  auto a = std::make_shared<RunArgs>();
   app.add_option("DATASET", a->dataset, "Dataset folder, or a video file (mp4, avi, mkv, ...) with --calib");
   app.add_option("--out", a->out, "Output folder (default ./dsm_out)");
   app.add_option("--mode", a->mode,
@@ -99,56 +156,11 @@ Command AddRun(CLI::App& app) {
   AddGtOptions(app, &a->gt);
   AddVideoOptions(app, &a->video);
   return [a] {
-    RunOptions options;
-    options.system.mode = ParseMapMode(a->mode, "--mode");
-    if (!a->config.empty()) ApplyOptionsYaml(a->config, &options.system);
-    SystemOptions& o = options.system;
-    // A flag's value is checked by the option it sets, with the flag named in the message.
-    const auto set = [&o](const char* flag, const std::optional<int>& value, int* field) {
-      if (!value) return;
-      *field = *value;
-      try {
-        o.Validate();
-      } catch (const InputError& e) {
-        throw InputError(std::string(flag) + " " + std::to_string(*value) + ": " + e.what());
-      }
-    };
-    set("--nt", a->nt, &o.window.temporal_keyframes);
-    set("--nc", a->nc, &o.window.covisible_keyframes);
-    set("--pba-levels", a->pba_levels, &o.pba.levels);
-    if (a->no_loop_closure) o.loop_closure.enabled = false;
-    if (!a->robust.empty()) o.pba.robust.kind = o.tracker.robust.kind = ParseRobustKind(a->robust, "--robust");
-    options.system.Validate();
+    const RunOptions options = OptionsFrom(*a);
     if (a->print_config) {
       std::fputs(OptionsYaml(options.system).c_str(), stdout);
       return 0;
     }
-    if (a->dataset.empty()) throw InputError("run: DATASET is required (a dataset folder, or a video file with --calib)");
-    options.global_ba = a->global_ba;
-    options.truth_ba = a->truth_ba;
-    options.start = a->start;
-    options.end = a->end;
-    options.quiet = a->quiet;
-    if (!(a->progress_interval >= 0.0)) throw InputError("--progress-interval must be >= 0 seconds");
-    options.progress_interval_s = a->progress_interval;
-    if (!(a->latency_target_ms >= 0.0)) throw InputError("--latency-target-ms must be >= 0");
-    options.realtime_latency_target_ms = a->latency_target_ms;
-    options.write_map = !a->no_map;
-    options.write_report = !a->no_report;
-    options.save_map = a->save_map;
-    options.load_map = a->load_map;
-    options.localize = a->localize;
-    if (a->port < 0 || a->port > 65535) throw InputError("--port must be 0..65535");
-    options.view_port = a->view ? a->port : -1;
-    if (!(a->view_wait >= 0.0) || a->view_wait > 86400.0) throw InputError("--view-wait must be 0..86400 seconds");
-    if (a->view_wait > 0.0 && !a->view) throw InputError("--view-wait needs --view");
-    options.view_wait_s = a->view_wait;
-    options.debug_dir = a->debug;
-    options.workers = a->workers;
-    if (a->sequential && a->realtime) throw InputError("--sequential and --realtime exclude each other");
-    options.pace = a->sequential ? Pace::kSequential : a->realtime ? Pace::kRealtime : Pace::kFree;
-    // The per-keyframe diagnostics read the map after each keyframe: only sequential allows that.
-    if (!options.debug_dir.empty() && !a->realtime) options.pace = Pace::kSequential;
     Dataset dataset = OpenInput(a->dataset, a->gt, a->video);
     if (a->line_delay_us) {
       const int rows = dataset.camera.height;

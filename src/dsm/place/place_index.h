@@ -22,6 +22,7 @@ class PlaceIndex {
   std::vector<std::pair<double, int>> Query(const BowVector& bow, double min_score,
                                             const std::function<bool(int)>& excluded) const;
   size_t size() const { return bows_.size(); }
+  const std::map<int, BowVector>& bows() const { return bows_; }  // By keyframe id.
 
  private:
   std::map<int, BowVector> bows_;

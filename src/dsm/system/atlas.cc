@@ -11,6 +11,7 @@ Atlas::Atlas(Factory make, Closer close, std::vector<StoredMap> loaded, System::
     Entry e;
     e.id = next_id_++;
     e.system = make_();
+    e.system->JoinPlaces(&places_);
     e.system->RestoreMap(std::move(stored), use);
     suspended_.push_back(std::move(e));
   }
@@ -18,18 +19,18 @@ Atlas::Atlas(Factory make, Closer close, std::vector<StoredMap> loaded, System::
   current_ = NewEntry();
 }
 
-void Atlas::SetMergeSources() {
-  std::vector<std::pair<int, System*>> sources;
+void Atlas::SetMergeCandidates() {
+  std::vector<std::pair<int, PlaceMap*>> candidates;
   for (Entry& e : suspended_)
-    if (e.id >= loaded_) sources.emplace_back(e.id, e.system.get());
-  current_.system->SetMergeSources(sources);
+    if (e.id >= loaded_) candidates.emplace_back(e.id, e.system->place_map());
+  places_.SetMergeCandidates(candidates);
 }
 
 void Atlas::MergeIfReady() {
   const int source = current_.system->MergeReady();
   if (source < 0 || waiting_) return;
   const auto it = std::find_if(suspended_.begin(), suspended_.end(), [&](const Entry& e) { return e.id == source; });
-  if (it == suspended_.end() || !current_.system->MergeVerified(std::max(source, current_.id))) return;
+  if (it == suspended_.end() || !current_.system->MergeVerified(*it->system, std::max(source, current_.id))) return;
   Entry taken = std::move(*it);
   suspended_.erase(it);
   current_.spans.insert(current_.spans.end(), taken.spans.begin(), taken.spans.end());
@@ -38,7 +39,7 @@ void Atlas::MergeIfReady() {
   if (taken.id < current_.id) std::swap(taken.id, current_.id);
   taken.merged_into = current_.id;
   merged_.push_back(std::move(taken));
-  SetMergeSources();
+  SetMergeCandidates();
 }
 
 bool Atlas::TrySuspended() const {
@@ -50,6 +51,7 @@ Atlas::Entry Atlas::NewEntry() {
   Entry e;
   e.id = next_id_++;
   e.system = make_();
+  e.system->JoinPlaces(&places_);
   e.open = true;
   return e;
 }
@@ -86,7 +88,7 @@ std::vector<Atlas::Settled> Atlas::Process(int index, int64_t t_ns, const Image<
       Note(&current_, w.index);
       Note(&current_, index);
       current_status_ = r.status;
-      SetMergeSources();
+      SetMergeCandidates();
       out.push_back({w.report, current_.id});
       out.push_back({r, current_.id});
       return out;
@@ -135,7 +137,7 @@ void Atlas::StartNewMap() {
   suspended_.push_back(std::move(current_));
   current_ = NewEntry();
   current_status_ = TrackingStatus::kInitializing;
-  SetMergeSources();
+  SetMergeCandidates();
 }
 
 const System* Atlas::Find(int id) const {

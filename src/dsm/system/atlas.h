@@ -12,7 +12,8 @@
 // mapped) and the map it replaces ends; withdrawn, the current map takes both frames in order.
 // Each frame thus belongs to exactly one map, and a map's frames may come in several spans.
 // While the current map tracks, its new keyframes are compared with the suspended maps this run
-// made (System::SetMergeSources: place recognition and verification on its mapping side); when
+// made (the merge candidates of the Atlas's place index, atlas_places.h: place recognition and
+// verification on its mapping side); when
 // one is recognised, the current map takes it in (System::MergeVerified) and the two go on as one,
 // under the smaller of their ids (the first map's output folder keeps the whole trajectory); the
 // map taken in ends without frames or keyframes of its own (Closer's `merged_into`). A suspended
@@ -33,6 +34,7 @@
 #include <vector>
 
 #include "dsm/image/image.h"
+#include "dsm/system/atlas_places.h"
 #include "dsm/system/system.h"
 
 namespace dsm {
@@ -101,13 +103,14 @@ class Atlas {
   Settled TakeCurrent(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
                       std::optional<std::chrono::steady_clock::time_point> wait_until);
   static void Note(Entry* e, int index);
-  // The current map's merge sources: the suspended maps this run made.
-  void SetMergeSources();
+  // The current map's merge candidates: the suspended maps this run made.
+  void SetMergeCandidates();
   // The suspended map the current one recognised, taken in (System::MergeVerified) when ready.
   void MergeIfReady();
 
   Factory make_;
   Closer close_;
+  AtlasPlaces places_;  // Every map's places (declared before the maps: they leave it when destroyed).
   System::LoadedMapUse use_;
   int next_id_ = 0;
   Entry current_;

@@ -1,22 +1,22 @@
 // SPDX-License-Identifier: MIT
 // What a System's mapping side keeps for loop closure and map merging (mapping_loop.cc,
-// mapping_merge.cc): the place index of its keyframes, the candidate runs of the last keyframe, the
-// other maps it may merge with and the merges and loops it made.
+// mapping_merge.cc): the candidate runs of the last keyframe and of each map it may merge with,
+// and the merges and loops it made (the places themselves: atlas_places.h).
 #pragma once
 
 #include <atomic>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
 
 #include "dsm/lie/sim3.h"
 #include "dsm/place/place_groups.h"
-#include "dsm/place/place_index.h"
 #include "dsm/place/vocabulary.h"
 
 namespace dsm {
 
-class MappingSide;
+class PlaceMap;
 
 // Keyframe kf seeing keyframe `candidate` again (of this map or another): the Sim(3) from the
 // candidate's camera to kf's (at each one's scale), the brightness of kf relative to the
@@ -44,20 +44,15 @@ struct MergedBlock {
 struct LoopState {
   const Vocabulary* vocabulary = nullptr;  // Null: loop closure off.
   std::unique_ptr<Vocabulary> own_vocabulary;  // LoopClosureOptions::vocabulary's, when given.
-  PlaceIndex places;                        // The keyframes' bags of words.
   std::vector<PlaceGroup> groups;           // The last keyframe's candidate groups.
   int last_loop_keyframe = -1;              // The keyframe that closed the last loop (-1: none).
-  // Map merging: the other maps with their candidate groups (System::SetMergeSources) ...
-  struct MergeSource {
-    int id = -1;
-    MappingSide* side = nullptr;
-    std::vector<PlaceGroup> groups;
-  };
-  std::vector<MergeSource> merge_sources;
-  // ... the verified match waiting for System::MergeVerified (its source's id in merge_ready
-  // once set) ...
+  // Map merging: the candidate groups per merge candidate (AtlasPlaces::merge_candidates)
+  // (by AtlasPlaces::Candidate::serial) ...
+  std::map<int, std::vector<PlaceGroup>> merge_groups;
+  // ... the verified match waiting for System::MergeVerified (its map's id in merge_ready once
+  // set) ...
   struct PendingMerge {
-    MappingSide* source = nullptr;
+    const PlaceMap* source = nullptr;
     int keyframe = -1;
     LoopMatch match;
   };

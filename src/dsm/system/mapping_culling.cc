@@ -78,7 +78,7 @@ bool MappingSide::CullKeyframe(int k) {
   }
   map_.Retire(k);
   keyframe_features_.erase(k);
-  loop_.places.Remove(k);
+  places_->Remove(this, k);
   ++stats_->keyframes_culled;
   return true;
 }

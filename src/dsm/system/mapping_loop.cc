@@ -138,21 +138,21 @@ bool MappingSide::LoopClosureActive() const {
 }
 
 void MappingSide::AddToPlaceIndex(int k) {
-  loop_.places.Add(k, loop_.vocabulary->Transform(KeyframeFeatures(k).descriptors));
+  places_->Add(this, k, loop_.vocabulary->Transform(KeyframeFeatures(k).descriptors));
 }
 
 bool MappingSide::DetectAndCloseLoop(int kf) {
   if (!LoopClosureActive()) return false;
   const auto start = std::chrono::steady_clock::now();
   AddToPlaceIndex(kf);
-  const BowVector& bow = *loop_.places.Bow(kf);
+  const BowVector& bow = *places_->Bow(this, kf);
   // The floor: a share of the score against the keyframe before (the same place, a step apart).
   const int before = window_.size() >= 2 ? window_[window_.size() - 2] : -1;
-  if (before < 0 || loop_.places.Bow(before) == nullptr) return false;
-  const double floor = kFloorShare * Vocabulary::Score(bow, *loop_.places.Bow(before));
+  if (before < 0 || places_->Bow(this, before) == nullptr) return false;
+  const double floor = kFloorShare * Vocabulary::Score(bow, *places_->Bow(this, before));
   const int recent = kf - 2 * (options_.window.temporal_keyframes + options_.window.covisible_keyframes);
-  std::vector<std::pair<double, int>> scored = loop_.places.Query(
-      bow, floor, [&](int k) { return k >= recent || map_.keyframe(k).retired; });
+  std::vector<std::pair<double, int>> scored = places_->Query(
+      this, bow, floor, [&](int k) { return k >= recent || map_.keyframe(k).retired; });
   if (!scored.empty()) {
     // Keyframes the window has joined already: its own, and the hosts of the points it observes
     // (a scan of the map, made only when there are candidates to judge). A candidate near one of
@@ -223,26 +223,33 @@ bool MappingSide::DetectAndCloseLoop(int kf) {
 
 void MappingSide::DetectMerge(int kf, const BowVector& bow, double floor) {
   if (loop_.merge_ready.load() >= 0) return;  // One merge at a time.
-  for (LoopState::MergeSource& source : loop_.merge_sources) {
-    const Map& other = source.side->map_;
+  const std::vector<AtlasPlaces::Candidate>& candidates = places_->merge_candidates();
+  // A map's groups last while it stays a candidate.
+  std::erase_if(loop_.merge_groups, [&](const auto& groups) {
+    return std::none_of(candidates.begin(), candidates.end(),
+                        [&](const AtlasPlaces::Candidate& c) { return c.serial == groups.first; });
+  });
+  for (const AtlasPlaces::Candidate& source : candidates) {
+    const Map& other = source.map->map();
     // Residuals of one map sample all its images alike (Map::interpolation).
     if (other.interpolation() != map_.interpolation()) continue;
     const std::vector<std::pair<double, int>> scored =
-        source.side->loop_.places.Query(bow, floor, [&](int k) { return other.keyframe(k).retired; });
+        places_->Query(source.map, bow, floor, [&](int k) { return other.keyframe(k).retired; });
     int found = 0;
-    for (int c : ConsistentGroups(scored, options_.loop_closure.consistent_keyframes, &source.groups, &found)) {
+    for (int c : ConsistentGroups(scored, options_.loop_closure.consistent_keyframes,
+                                  &loop_.merge_groups[source.serial], &found)) {
       LoopMatch match;
-      if (!VerifyLoop(kf, *source.side, c, &match)) continue;
+      if (!VerifyLoop(kf, *source.map, c, &match)) continue;
       // Two maps share no path, so no share of it bounds the correction: the verification alone
       // decides (perceptual aliasing between maps is not caught).
-      loop_.pending_merge = LoopState::PendingMerge{source.side, kf, match};
+      loop_.pending_merge = LoopState::PendingMerge{source.map, kf, match};
       loop_.merge_ready.store(source.id);
       return;
     }
   }
 }
 
-bool MappingSide::VerifyLoop(int kf, MappingSide& owner, int c, LoopMatch* match) {
+bool MappingSide::VerifyLoop(int kf, PlaceMap& owner, int c, LoopMatch* match) {
   const OrbFeatures& fk = KeyframeFeatures(kf);
   const OrbFeatures& fc = owner.KeyframeFeatures(c);
   const std::vector<cv::DMatch> matches = MatchFeatures(fk, fc, {});
@@ -264,7 +271,7 @@ bool MappingSide::VerifyLoop(int kf, MappingSide& owner, int c, LoopMatch* match
   if (!r.ok) return false;
   // Direct alignment of the keyframe against the candidate's points, at the candidate's scale.
   const Keyframe& k = map_.keyframe(kf);
-  const Keyframe& old = owner.map_.keyframe(c);
+  const Keyframe& old = owner.map().keyframe(c);
   const TrackerOptions tracker_options = internal::OverLevels(options_.tracker, options_.pyramid_levels);
   const std::shared_ptr<const ImagePyramid> pyramid = old.PyramidOrRebuilt();
   FrameTracker tracker(tracker_options);
@@ -306,7 +313,7 @@ bool MappingSide::VerifyLoop(int kf, MappingSide& owner, int c, LoopMatch* match
   // as well, the view does not tell the two apart (a place that repeats, a wrong RANSAC pose
   // polished by the alignment) and the map is left as it is.
   // (Another map's poses are in another frame: there the map offers no such hypothesis.)
-  const TrackResult as_is = &owner == this ? tracker.Track(k.Pyramid(), k_from_c_now, alpha, beta) : TrackResult{};
+  const TrackResult as_is = &owner == static_cast<PlaceMap*>(this) ? tracker.Track(k.Pyramid(), k_from_c_now, alpha, beta) : TrackResult{};
   if (as_is.ok && as_is.inlier_ratio >= options_.quality.min_inlier_ratio) {
     if (median_shift(as_is.frame_from_keyframe, t.frame_from_keyframe) >= kReobservePx) {
       if (t.residual_p50 * kClearlyBetter > as_is.residual_p50) return false;

@@ -15,28 +15,16 @@
 
 #include "dsm/system/mapping_side.h"
 #include "dsm/system/system_internal.h"
+#include "dsm/util/check.h"
 
 namespace dsm {
 
-void MappingSide::SetMergeSources(const std::vector<std::pair<int, MappingSide*>>& sources) {
-  std::vector<LoopState::MergeSource> kept;
-  for (const auto& [id, side] : sources) {
-    LoopState::MergeSource s;
-    s.id = id;
-    s.side = side;
-    for (const LoopState::MergeSource& before : loop_.merge_sources)
-      if (before.side == side) s.groups = before.groups;
-    kept.push_back(std::move(s));
-  }
-  loop_.merge_sources = std::move(kept);
-}
-
-int MappingSide::TakeMerge(int taken_id) {
+int MappingSide::TakeMerge(MappingSide& other, int taken_id) {
+  DSM_CHECK(MergeReadyWith(other) && places_ == other.places_, "a merge takes the map its keyframe recognised");
   const auto start = std::chrono::steady_clock::now();
   const LoopState::PendingMerge pending = std::move(*loop_.pending_merge);
   loop_.pending_merge.reset();
   loop_.merge_ready.store(-1);
-  MappingSide& other = *pending.source;
   const int n = map_.NumKeyframes();
   // S: this world from the other's (a point of the other map x goes to S x here).
   const Sim3d S = Sim3d(map_.keyframe(pending.keyframe).cam_from_world).Inverse() * pending.match.k_from_c *
@@ -55,7 +43,6 @@ int MappingSide::TakeMerge(int taken_id) {
     map_.RestoreKeyframe(std::move(k));
     if (n + j >= static_cast<int>(keyframe_scale_.size())) keyframe_scale_.resize(n + j + 1, 1.0);
     keyframe_scale_[n + j] = other.KeyframeScale(j) * sigma;
-    if (const BowVector* bow = other.loop_.places.Bow(j)) loop_.places.Add(n + j, *bow);
   }
   for (auto& [k, features] : other.keyframe_features_) keyframe_features_.emplace(n + k, std::move(features));
   int points = 0;
@@ -84,8 +71,7 @@ int MappingSide::TakeMerge(int taken_id) {
   // The other System keeps its stats; its map is this one's now (its frames: System::MergeVerified).
   other.map_ = Map();
   other.keyframe_features_.clear();
-  other.loop_.places = PlaceIndex();
-  std::erase_if(loop_.merge_sources, [&](const LoopState::MergeSource& s) { return s.side == &other; });
+  places_->MoveInto(&other, this, n);
   loop_.merge_ba_pending = true;
   merge.ms = internal::MsSince(start);
   stats_->maps_merged.push_back(merge);

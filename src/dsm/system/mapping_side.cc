@@ -20,6 +20,7 @@
 #include "dsm/system/system_internal.h"
 #include "dsm/tracking/feature_pose.h"
 #include "dsm/tracking/frame_tracker.h"
+#include "dsm/util/check.h"
 
 namespace dsm {
 
@@ -50,7 +51,9 @@ MappingSide::MappingSide(const PinholeCamera& camera, const SystemOptions& optio
       options_(options),
       setup_(setup),
       stats_(stats),
-      min_activation_distance_px_(options.activation.initial_min_distance_px) {
+      min_activation_distance_px_(options.activation.initial_min_distance_px),
+      places_(&own_places_) {
+  places_->Join(this);
   if (options_.loop_closure.enabled && options_.mode == MapMode::kFull) {
     if (options_.loop_closure.vocabulary.empty()) {
       loop_.vocabulary = &Vocabulary::BuiltIn();
@@ -61,7 +64,14 @@ MappingSide::MappingSide(const PinholeCamera& camera, const SystemOptions& optio
   }
 }
 
-MappingSide::~MappingSide() = default;
+MappingSide::~MappingSide() { places_->Leave(this); }
+
+void MappingSide::UsePlaces(AtlasPlaces* places) {
+  DSM_CHECK(map_.NumKeyframes() == 0, "a map joins a place index before it has keyframes");
+  places_->Leave(this);
+  places_ = places;
+  places_->Join(this);
+}
 
 void MappingSide::ChooseNoiseHandling(double noise_sigma) {
   stats_->image_noise_sigma = noise_sigma;

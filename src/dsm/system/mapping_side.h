@@ -32,6 +32,7 @@
 #include "dsm/map/stored_map.h"
 #include "dsm/mapping/candidate.h"
 #include "dsm/optimization/pba.h"
+#include "dsm/system/atlas_places.h"
 #include "dsm/system/handover.h"
 #include "dsm/system/loop_state.h"
 #include "dsm/system/options.h"
@@ -42,13 +43,17 @@ namespace dsm {
 class MappingThread;
 class OcclusionGrid;
 
-class MappingSide final : public MappingInbox, private IdleMap {
+class MappingSide final : public MappingInbox, private IdleMap, private PlaceMap {
  public:
   // `options` as the System runs them (the sliding window's already made all temporal).
   MappingSide(const PinholeCamera& camera, const SystemOptions& options, const SystemSetup& setup, MappingStats* stats);
   ~MappingSide();
   // Threaded: the jobs run on `thread` from here on (null: sequential, each inside its call).
   void RunOn(MappingThread* thread) { thread_ = thread; }
+  // The place index this map's keyframes go into: a run's Atlas's, given before the first frame
+  // or map taken up (else the mapping side's own). As what that index knows the map by: place_map.
+  void UsePlaces(AtlasPlaces* places);
+  PlaceMap* place_map() { return this; }
 
   // MappingInbox (handover.h).
   void StartMap(MapStart start) override;
@@ -98,17 +103,19 @@ class MappingSide final : public MappingInbox, private IdleMap {
   // The camera's speed per frame as a loaded map has it (between consecutive keyframes).
   double loaded_speed() const { return loaded_speed_; }
 
-  // Map merging (mapping_merge.cc): the other maps' mapping sides compared with this map's new
-  // keyframes (System::SetMergeSources), the source waiting to be merged, and the merge
-  // (System::MergeVerified): returns the offset of the taken keyframes' ids.
-  void SetMergeSources(const std::vector<std::pair<int, MappingSide*>>& sources);
+  // Map merging (mapping_merge.cc): the Atlas's id of the merge candidate a keyframe recognised
+  // and verified (-1: none), and the merge of that map's mapping side, `other` (System::MergeVerified):
+  // returns the offset of the taken keyframes' ids.
   int MergeReady() const { return loop_.merge_ready.load(); }
-  MappingSide* MergeSource() const { return loop_.pending_merge ? loop_.pending_merge->source : nullptr; }
-  int TakeMerge(int taken_id);
+  bool MergeReadyWith(const MappingSide& other) const {
+    return loop_.pending_merge && loop_.pending_merge->source == static_cast<const PlaceMap*>(&other);
+  }
+  int TakeMerge(MappingSide& other, int taken_id);
 
  private:
-  // IdleMap (handover.h).
+  // IdleMap (handover.h) and PlaceMap (atlas_places.h).
   std::vector<ReferencePoint> PointsSeenIn(int kf) override;
+  const OrbFeatures& KeyframeFeatures(int k) override;  // Detected on first use (keyframe_features_).
   std::shared_ptr<const TrackingReference> MakeReference(int kf, std::vector<ReferencePoint> points,
                                                          std::shared_ptr<const ImagePyramid> pyramid) const override;
   std::map<int, OrbFeatures>& keyframe_features() override { return keyframe_features_; }
@@ -187,14 +194,12 @@ class MappingSide final : public MappingInbox, private IdleMap {
   // Localisation: once keyframe `newest` sees the loaded map again, the temporary keyframes
   // outside the window leave the map (Map::Retire).
   void RetireTemporaries(int newest);
-  // Loop closure (mapping_loop.cc; LoopClosureOptions): keyframe k's ORB features, detected on
-  // first use (keyframe_features_).
-  const OrbFeatures& KeyframeFeatures(int k);
+  // Loop closure (mapping_loop.cc; LoopClosureOptions).
   bool LoopClosureActive() const;
   void AddToPlaceIndex(int k);
   bool DetectAndCloseLoop(int kf);  // Adds kf to the place index; closes a loop when it finds one.
-  // `owner`: the mapping side whose map has c (this one, or a merge source).
-  bool VerifyLoop(int kf, MappingSide& owner, int c, LoopMatch* match);
+  // `owner`: the map that has c (this one, or a merge candidate).
+  bool VerifyLoop(int kf, PlaceMap& owner, int c, LoopMatch* match);
   // Keyframe kf (bag of words `bow`, score floor `floor`) against the merge sources' keyframes; a
   // verified match waits in loop_.pending_merge for TakeMerge.
   void DetectMerge(int kf, const BowVector& bow, double floor);
@@ -253,6 +258,8 @@ class MappingSide final : public MappingInbox, private IdleMap {
   int retired_keyframes_ = 0;  // Localisation's temporary keyframes retired (culled ones: stats_).
   std::vector<int> cull_pending_;  // Left the temporal window, not judged yet (CullUnusedKeyframes).
   LoopState loop_;  // Loop closure and map merging.
+  AtlasPlaces own_places_;  // Without an Atlas ...
+  AtlasPlaces* places_;     // ... the index this map's places are in.
   // Per keyframe id: the product of the scales loop closures gave it; missing entries are 1.
   std::vector<double> keyframe_scale_;
 };

@@ -109,7 +109,7 @@ void MappingSide::RetireTemporaries(int newest) {
     map_.Retire(k);
     candidates_.erase(k);
     keyframe_features_.erase(k);
-    loop_.places.Remove(k);
+    places_->Remove(this, k);
     ++retired_keyframes_;
   }
 }

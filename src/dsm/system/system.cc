@@ -118,31 +118,17 @@ void System::RestoreMap(StoredMap stored, LoadedMapUse use) {
   tracking_.TakeUpLoadedMap(mapping_.loaded_keyframes(), mapping_.loaded_speed(), residual_level, texture_level);
 }
 
-void System::SetMergeSources(const std::vector<std::pair<int, System*>>& sources) {
-  std::vector<std::pair<int, MappingSide*>> sides;
-  merge_sources_.clear();
-  for (const auto& [id, system] : sources) {
-    sides.emplace_back(id, &system->mapping_);
-    merge_sources_.emplace_back(&system->mapping_, system);
-  }
-  mapping_.SetMergeSources(sides);
-}
-
-bool System::MergeVerified(int taken_id) {
+bool System::MergeVerified(System& other, int taken_id) {
   if (mapping_.MergeReady() < 0) return false;
   Finish();
   if (tracking_.state() == TrackingState::kConfirming) return false;
   DSM_CHECK(tracking_.next_keyframe() == mapping_.map().NumKeyframes(), "a merge waits until every keyframe is mapped");
-  MappingSide* source = mapping_.MergeSource();
-  const auto it = std::find_if(merge_sources_.begin(), merge_sources_.end(),
-                               [&](const auto& s) { return s.first == source; });
-  DSM_CHECK(it != merge_sources_.end(), "a merge source is one SetMergeSources named");
-  System& other = *it->second;
+  DSM_CHECK(mapping_.MergeReadyWith(other.mapping_), "a merge takes the map its keyframe recognised");
   // The other map's frames, relative to their keyframes as before (their offsets scale with the
   // keyframe: MappingSide::KeyframeScale), in time order with this map's.
   const Map& other_map = other.mapping_.map();
   const double baseline = other_map.NumKeyframes() > 1 ? other.mapping_.InitBaseline() : 0.0;
-  const int n = mapping_.TakeMerge(taken_id);
+  const int n = mapping_.TakeMerge(other.mapping_, taken_id);
   std::vector<FramePose> frames;
   for (FramePose f : other.tracking_.TakeFrames()) {
     if (f.reference < 0) continue;
@@ -154,7 +140,6 @@ bool System::MergeVerified(int taken_id) {
     frames.push_back(f);
   }
   tracking_.MergeFrames(frames, mapping_.map().NumKeyframes());
-  merge_sources_.erase(it);
   return true;
 }
 

@@ -128,17 +128,19 @@ class System {
   // Withdraws a relocalisation still waiting for the next frame's confirmation, as if that frame
   // had not confirmed it (the run ended first).
   void WithdrawTentative() { tracking_.WithdrawTentative(); }
-  // Map merging (mapping_merge.cc; LoopClosureOptions). The other maps of the run that this map's
-  // new keyframes are compared with: place recognition and the loop's
-  // verification (mapping_loop.cc) against their keyframes, on this map's mapping side. `id`: the
-  // caller's name of each. The mapping side reads them while this map tracks: the caller leaves
-  // them untouched meanwhile and finishes this map's mapping side (Finish) before it uses one of
-  // them itself (system/atlas.h). Set while the mapping side is idle.
-  void SetMergeSources(const std::vector<std::pair<int, System*>>& sources);
-  // The id of the source a keyframe recognised and verified, waiting to be merged (-1: none); read
-  // without waiting for the mapping side.
+  // Places (atlas_places.h): the run's place index this map's keyframes go into, given before the
+  // first frame or RestoreMap (else the System's own), and what that index knows the map by.
+  void JoinPlaces(AtlasPlaces* places) { mapping_.UsePlaces(places); }
+  PlaceMap* place_map() { return mapping_.place_map(); }
+  // Map merging (mapping_merge.cc; LoopClosureOptions): this map's new keyframes are compared
+  // with the index's merge candidates (AtlasPlaces::SetMergeCandidates: place recognition and
+  // the loop's verification against their keyframes, on this map's mapping side). The mapping
+  // side reads them while this map tracks: the caller leaves them untouched meanwhile and
+  // finishes this map's mapping side (Finish) before it uses one of them itself (system/atlas.h).
+  // The Atlas's id of the candidate a keyframe recognised and verified, waiting to be merged (-1:
+  // none); read without waiting for the mapping side.
   int MergeReady() const { return mapping_.MergeReady(); }
-  // Takes the map MergeReady names into this one, on the caller's thread once the mapping side is
+  // Takes the map MergeReady names, `other`, into this one, on the caller's thread once the mapping side is
   // finished (Finish): its keyframes and points follow this map's (ids shifted by this map's
   // keyframe and point counts), moved into this map's frame and scale by the verified Sim(3)
   //   S = K^-1 k_from_c C   (this world from the other's; K, C: the keyframe's and the
@@ -150,7 +152,7 @@ class System {
   // the merge's bundle adjustment follows (AdjustMerge). False, nothing changed, while a
   // relocalisation waits to be confirmed (the caller tries again with a later frame). `taken_id`:
   // the caller's name of the map taken in from here on (stats: SystemStats::MapMerge::map).
-  bool MergeVerified(int taken_id);
+  bool MergeVerified(System& other, int taken_id);
 
   // What the tracking side does with the next frame (tracking_state.h).
   TrackingState state() const { return tracking_.state(); }
@@ -176,9 +178,6 @@ class System {
   int young_map_frames_;
   MappingSide mapping_;
   TrackingSide tracking_;
-  // The maps SetMergeSources named, with the mapping side each one's is (MergeVerified takes the
-  // frames of the one merged).
-  std::vector<std::pair<MappingSide*, System*>> merge_sources_;
   std::unique_ptr<class MappingThread> mapping_thread_;  // Threaded only; joined first.
 };
 
