@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "apps/commands.h"
+#include "dsm/run/map_run.h"
 #include "dsm/eval/metrics.h"
 #include "dsm/io/dataset.h"
 #include "dsm/io/trajectory_io.h"
@@ -80,11 +81,7 @@ Command AddEval(CLI::App& app) {
         pose = SE3d(result.ref_from_est.So3() * pose.So3(), result.ref_from_est * pose.Translation());
       WriteTumTrajectory(a->aligned, aligned);
     }
-    if (!a->json.empty()) {
-      std::ofstream out(a->json);
-      out << ToJson(result).dump(2) << "\n";
-      if (!out) throw InputError(a->json + ": cannot write file");
-    }
+    if (!a->json.empty()) WriteJson(a->json, ToJson(result));
     return 0;
   };
 }

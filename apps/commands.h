@@ -22,6 +22,7 @@ Command AddReport(CLI::App& app);
 Command AddDamage(CLI::App& app);
 Command AddMap(CLI::App& app);
 Command AddVocabulary(CLI::App& app);
+Command AddCalibrate(CLI::App& app);
 
 // --gt-frame / --gt-quaternion: how EuRoC ground-truth rows are read (see io/dataset.h).
 struct GtArgs {

@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   add("gt-check", "Check a dataset's ground truth against its images (epipolar distance of tracked corners)",
       dsm::cli::AddGtCheck);
   add("synth", "Render a synthetic sequence with exact ground truth", dsm::cli::AddSynth);
+  add("calibrate", "Calibrate a camera from views of a checkerboard; writes the camera.yaml dsm run reads",
+      dsm::cli::AddCalibrate);
   add("report", "Rebuild report.html (map, trajectory, plots; one self-contained page) from a run's output folder",
       dsm::cli::AddReport);
   add("map", "Map files (dsm run --save-map): `dsm map info FILE` describes one", dsm::cli::AddMap);

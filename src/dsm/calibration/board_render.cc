@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/calibration/board_render.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <tbb/parallel_for.h>
+
+#include "dsm/io/calibration_io.h"
+#include "dsm/io/dataset.h"
+#include "dsm/io/folder_dataset.h"
+#include "dsm/io/image_io.h"
+#include "dsm/util/check.h"
+
+namespace dsm {
+
+namespace {
+
+constexpr int kSamples = 4;
+constexpr double kBlack = 40.0, kWhite = 210.0, kWall = 120.0;
+
+Eigen::Matrix3d Rotation(double rx, double ry, double rz) {
+  return (Eigen::AngleAxisd(rz, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rx, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+// Whether every inner corner and the board's outer squares project inside the image, 8 px in.
+bool InView(const CameraCalibration& camera, const BoardSpec& board, const SE3d& cam_from_board) {
+  const double s = board.square_m;
+  std::vector<Eigen::Vector3d> points = board.Corners();
+  points.emplace_back(-s, -s, 0.0);
+  points.emplace_back(board.cols * s, -s, 0.0);
+  points.emplace_back(-s, board.rows * s, 0.0);
+  points.emplace_back(board.cols * s, board.rows * s, 0.0);
+  for (const Eigen::Vector3d& p : points) {
+    const Eigen::Vector3d c = cam_from_board * p;
+    if (c.z() < 0.05) return false;
+    Eigen::Vector2d n;
+    const Eigen::Vector2d px = camera.Project(c);
+    // A pixel the model projects to must also come back (the model is invertible there).
+    if (!camera.Unproject(px, &n) || (n - c.head<2>() / c.z()).norm() > 1e-6) return false;
+    if (px.x() < 8 || px.y() < 8 || px.x() > camera.width - 9 || px.y() > camera.height - 9) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+CameraCalibration ExampleCamera(CameraModel model) {
+  CameraCalibration c;
+  c.model = model;
+  c.width = 640;
+  c.height = 480;
+  c.fx = 420.0, c.fy = 418.0, c.cx = 322.5, c.cy = 237.0;
+  if (model == CameraModel::kRadTan) c.distortion = {-0.28, 0.08, 0.0006, -0.0004};
+  if (model == CameraModel::kEquidistant || model == CameraModel::kFov) c.fx = 300.0, c.fy = 299.0;
+  if (model == CameraModel::kEquidistant) c.distortion = {0.02, -0.015, 0.004, -0.001};
+  if (model == CameraModel::kFov) c.distortion = {0.9};
+  c.Validate("ExampleCamera");
+  return c;
+}
+
+BoardRenderer::BoardRenderer(const CameraCalibration& camera) : camera_(camera) {
+  const int w = camera.width * kSamples, h = camera.height * kSamples;
+  rays_.resize(static_cast<size_t>(w) * h);
+  tbb::parallel_for(0, h, [&](int sy) {
+    for (int sx = 0; sx < w; ++sx) {
+      // Sample (sx, sy) of pixel (sx / k, sy / k), spread evenly over the pixel's area.
+      const Eigen::Vector2d px((sx + 0.5) / kSamples - 0.5, (sy + 0.5) / kSamples - 0.5);
+      Eigen::Vector2d n;
+      rays_[static_cast<size_t>(sy) * w + sx] =
+          camera.Unproject(px, &n) ? n.cast<float>() : Eigen::Vector2f(NAN, NAN);
+    }
+  });
+}
+
+Image<uint8_t> BoardRenderer::Render(const BoardSpec& board, const SE3d& cam_from_board, double noise_sigma,
+                                     uint32_t seed) const {
+  const SE3d board_from_cam = cam_from_board.Inverse();
+  const Eigen::Matrix3d R = board_from_cam.So3().Matrix();
+  const Eigen::Vector3d origin = board_from_cam.Translation();  // The camera centre in the board's frame.
+  const int w = camera_.width * kSamples;
+  Image<float> grey(camera_.width, camera_.height);
+  tbb::parallel_for(0, camera_.height, [&](int y) {
+    for (int x = 0; x < camera_.width; ++x) {
+      double sum = 0.0;
+      for (int sy = 0; sy < kSamples; ++sy)
+        for (int sx = 0; sx < kSamples; ++sx) {
+          const Eigen::Vector2f& n = rays_[static_cast<size_t>(y * kSamples + sy) * w + x * kSamples + sx];
+          double value = kWall;
+          if (!std::isnan(n.x())) {
+            const Eigen::Vector3d dir = R * Eigen::Vector3d(n.x(), n.y(), 1.0);
+            const double t = std::abs(dir.z()) > 1e-12 ? -origin.z() / dir.z() : -1.0;
+            if (t > 0.0) {
+              const Eigen::Vector3d hit = origin + t * dir;
+              const int colour = board.Colour(hit.x(), hit.y());
+              if (colour >= 0) value = colour == 1 ? kBlack : kWhite;
+            }
+          }
+          sum += value;
+        }
+      grey(x, y) = static_cast<float>(sum / (kSamples * kSamples));
+    }
+  });
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_sigma);
+  Image<uint8_t> out(camera_.width, camera_.height);
+  for (int y = 0; y < camera_.height; ++y)
+    for (int x = 0; x < camera_.width; ++x)
+      out(x, y) = static_cast<uint8_t>(std::clamp(std::lround(grey(x, y) + noise(rng)), 0L, 255L));
+  return out;
+}
+
+std::vector<SE3d> BoardViews(const CameraCalibration& camera, const BoardSpec& board, int count, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double board_w = (board.cols + 1) * board.square_m;
+  const Eigen::Vector3d centre(0.5 * (board.cols - 1) * board.square_m, 0.5 * (board.rows - 1) * board.square_m, 0.0);
+  std::vector<SE3d> views;
+  for (int attempt = 0; static_cast<int>(views.size()) < count; ++attempt) {
+    DSM_CHECK(attempt < 1000 * count, "board views: the board does not fit the image");
+    // Its width across the image as a share, hence its distance (pinhole approximation).
+    const double share = 0.35 + 0.4 * unit(rng);
+    const double distance = camera.fx * board_w / (share * camera.width);
+    Eigen::Vector2d n;
+    const Eigen::Vector2d at(camera.width * unit(rng), camera.height * unit(rng));
+    if (!camera.Unproject(at, &n)) continue;
+    const Eigen::Vector3d position = distance * Eigen::Vector3d(n.x(), n.y(), 1.0).normalized();
+    const double deg = M_PI / 180.0;
+    const Eigen::Matrix3d cam_R_board =
+        Rotation((2 * unit(rng) - 1) * 45 * deg, (2 * unit(rng) - 1) * 45 * deg, (2 * unit(rng) - 1) * 20 * deg);
+    // cam_from_board maps the board's centre to `position`.
+    const SE3d cam_from_board(SO3d(cam_R_board), position - cam_R_board * centre);
+    if (InView(camera, board, cam_from_board)) views.push_back(cam_from_board);
+  }
+  return views;
+}
+
+void WriteBoardSequence(const std::filesystem::path& dir, const CameraCalibration& camera, const BoardSpec& board,
+                        int count, uint32_t seed) {
+  std::filesystem::create_directories(dir / "images");
+  const std::vector<SE3d> views = BoardViews(camera, board, count, seed);
+  std::vector<FrameRecord> frames(views.size());
+  const BoardRenderer renderer(camera);
+  for (size_t i = 0; i < views.size(); ++i)
+    WriteGray8(dir / "images" / FolderImageName(i), renderer.Render(board, views[i], 1.0, seed * 1000 + i));
+  for (size_t i = 0; i < views.size(); ++i) {
+    frames[i].t_ns = static_cast<int64_t>(i) * 100000000;
+    frames[i].exposure_ms = 0.0;
+  }
+  WriteFolderTimes(dir, frames);
+  CameraYaml yaml;
+  yaml.camera = camera;
+  yaml.rate_hz = 10.0;
+  WriteCameraYaml(dir / "camera.yaml", yaml);
+}
+
+}  // namespace dsm

@@ -1,0 +1,292 @@
+// SPDX-License-Identifier: MIT
+#include "dsm/calibration/calibrate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <array>
+#include <functional>
+#include <optional>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "dsm/io/image_io.h"
+#include "dsm/lie/se3.h"
+#include "dsm/util/check.h"
+#include "dsm/util/median.h"
+
+namespace dsm {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kMaxEdgeWidthPx = 3.0;  // Sharpness: the detector's median edge width.
+
+struct Detection {
+  int frame = -1;
+  std::vector<cv::Point2f> corners;
+  double edge_width = 0.0;
+  std::array<double, 5> place{};  // Where and how the board lies in the image (PickViews).
+};
+
+bool IsImageFile(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".pgm" || ext == ".ppm" || ext == ".bmp" ||
+         ext == ".tif" || ext == ".tiff";
+}
+
+// Calls `take` with each frame of `input`, 8-bit grey, in order; returns how many.
+int ForEachFrame(const fs::path& input, const std::function<void(int, const cv::Mat&)>& take) {
+  if (fs::is_directory(input)) {
+    const fs::path dir = fs::is_directory(input / "images") ? input / "images" : input;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.is_regular_file() && IsImageFile(e.path())) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) throw InputError(dir.string() + ": no image files (png, jpg, pgm, bmp, tiff)");
+    for (size_t i = 0; i < files.size(); ++i) {
+      const Image<uint8_t> image = ReadGray8(files[i]);
+      take(static_cast<int>(i), cv::Mat(image.height(), image.width(), CV_8UC1, const_cast<uint8_t*>(image.data())).clone());
+    }
+    return static_cast<int>(files.size());
+  }
+  if (!fs::exists(input)) throw InputError(input.string() + ": no such file or folder");
+  cv::VideoCapture video(input.string());
+  if (!video.isOpened()) throw InputError(input.string() + ": cannot open the video");
+  int n = 0;
+  for (cv::Mat frame, grey; video.read(frame); ++n) {
+    if (frame.channels() == 3) cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
+    else grey = frame;
+    take(n, grey);
+  }
+  if (n == 0) throw InputError(input.string() + ": the video has no frames");
+  return n;
+}
+
+// Centre (x, y over the image size), size (square root of the corners' bounding area over the
+// image's) and tilt (the ratios of the first to the last row's and column's length, log).
+std::array<double, 5> Place(const std::vector<cv::Point2f>& c, const BoardSpec& b, cv::Size size) {
+  cv::Point2f mean(0, 0);
+  for (const cv::Point2f& p : c) mean += p;
+  mean *= 1.0f / c.size();
+  const cv::Rect box = cv::boundingRect(c);
+  const auto len = [&](int a, int z) { return std::hypot(c[z].x - c[a].x, c[z].y - c[a].y); };
+  const int last_row = (b.rows - 1) * b.cols;
+  const double top = len(0, b.cols - 1), bottom = len(last_row, last_row + b.cols - 1);
+  const double left = len(0, last_row), right = len(b.cols - 1, last_row + b.cols - 1);
+  return {mean.x / size.width, mean.y / size.height, std::sqrt(box.area() / double(size.area())),
+          std::log(top / bottom), std::log(left / right)};
+}
+
+// Farthest-point sampling of the views' places, from the sharpest.
+std::vector<int> PickViews(const std::vector<Detection>& found, int max_views) {
+  std::vector<int> picked;
+  std::vector<double> distance(found.size(), INFINITY);
+  int next = static_cast<int>(std::min_element(found.begin(), found.end(), [](const auto& a, const auto& b) {
+                                return a.edge_width < b.edge_width;
+                              }) - found.begin());
+  while (static_cast<int>(picked.size()) < std::min<int>(max_views, found.size())) {
+    picked.push_back(next);
+    double best = -1.0;
+    for (size_t i = 0; i < found.size(); ++i) {
+      double d = 0.0;
+      for (int k = 0; k < 5; ++k) d += std::pow(found[i].place[k] - found[next].place[k], 2);
+      distance[i] = std::min(distance[i], d);
+    }
+    for (size_t i = 0; i < found.size(); ++i)
+      if (distance[i] > best) best = distance[i], next = static_cast<int>(i);
+    if (best <= 0.0) break;  // Every view left is one of those picked.
+  }
+  std::sort(picked.begin(), picked.end());
+  return picked;
+}
+
+struct Solution {
+  CameraCalibration camera;
+  std::vector<SE3d> cam_from_board;
+  std::vector<double> deviations;  // Of fx, fy, cx, cy (empty: not known).
+};
+
+Solution Solve(const std::vector<Detection>& views, const BoardSpec& board, CameraModel model, cv::Size size) {
+  std::vector<cv::Point3f> object;
+  for (const Eigen::Vector3d& p : board.Corners()) object.emplace_back(p.x(), p.y(), p.z());
+  Solution s;
+  s.camera.model = model;
+  s.camera.width = size.width;
+  s.camera.height = size.height;
+  std::vector<cv::Mat> rvecs, tvecs;
+  cv::Mat K, D;
+  try {
+    if (model == CameraModel::kEquidistant) {
+      std::vector<std::vector<cv::Point3d>> obj(views.size());
+      std::vector<std::vector<cv::Point2d>> img(views.size());
+      for (size_t v = 0; v < views.size(); ++v) {
+        for (const cv::Point3f& p : object) obj[v].emplace_back(p);
+        for (const cv::Point2f& p : views[v].corners) img[v].emplace_back(p);
+      }
+      cv::fisheye::calibrate(obj, img, size, K, D, rvecs, tvecs,
+                             cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC | cv::fisheye::CALIB_FIX_SKEW,
+                             cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12));
+    } else {
+      std::vector<std::vector<cv::Point3f>> obj(views.size(), object);
+      std::vector<std::vector<cv::Point2f>> img;
+      for (const Detection& d : views) img.push_back(d.corners);
+      int flags = cv::CALIB_FIX_K3;
+      if (model == CameraModel::kPinhole) flags |= cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_ZERO_TANGENT_DIST;
+      cv::Mat std_intrinsics, std_extrinsics, per_view;
+      cv::calibrateCamera(obj, img, size, K, D, rvecs, tvecs, std_intrinsics, std_extrinsics, per_view, flags,
+                          cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12));
+      for (int i = 0; i < 4; ++i) s.deviations.push_back(std_intrinsics.at<double>(i));
+    }
+  } catch (const cv::Exception& e) {
+    throw InputError(std::string("calibration failed: the views do not constrain the camera (") + e.what() + ")");
+  }
+  s.camera.fx = K.at<double>(0, 0);
+  s.camera.fy = K.at<double>(1, 1);
+  s.camera.cx = K.at<double>(0, 2);
+  s.camera.cy = K.at<double>(1, 2);
+  const int n = model == CameraModel::kPinhole ? 0 : 4;
+  for (int i = 0; i < n; ++i) s.camera.distortion.push_back(D.at<double>(i));
+  for (size_t v = 0; v < views.size(); ++v) {
+    cv::Mat R;
+    cv::Rodrigues(rvecs[v], R);
+    Eigen::Matrix3d r;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) r(i, j) = R.at<double>(i, j);
+    const Eigen::Vector3d t(tvecs[v].at<double>(0), tvecs[v].at<double>(1), tvecs[v].at<double>(2));
+    s.cam_from_board.emplace_back(SO3d(r), t);
+  }
+  return s;
+}
+
+// Reprojection RMS of a view's corners with the model as dsm projects it.
+double ViewRms(const Solution& s, size_t v, const Detection& d, const BoardSpec& board) {
+  const std::vector<Eigen::Vector3d> corners = board.Corners();
+  double sum = 0.0;
+  for (size_t i = 0; i < corners.size(); ++i) {
+    const Eigen::Vector2d px = s.camera.Project(s.cam_from_board[v] * corners[i]);
+    sum += (px - Eigen::Vector2d(d.corners[i].x, d.corners[i].y)).squaredNorm();
+  }
+  return std::sqrt(sum / corners.size());
+}
+
+}  // namespace
+
+CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& options) {
+  if (options.model == CameraModel::kFov)
+    throw InputError("--model fov: dsm calibrate fits pinhole, radtan and equidistant cameras (no FOV yet)");
+  const BoardSpec& board = options.board;
+  const cv::Size pattern(board.cols, board.rows);
+  std::vector<Detection> found;
+  std::optional<cv::Size> size;
+  CalibrationResult out;
+  out.frames = ForEachFrame(input, [&](int i, const cv::Mat& grey) {
+    if (!size) size = grey.size();
+    if (grey.size() != *size)
+      throw InputError(input.string() + ": frame " + std::to_string(i) + " is " + std::to_string(grey.cols) + "x" +
+                       std::to_string(grey.rows) + ", the first was " + std::to_string(size->width) + "x" +
+                       std::to_string(size->height));
+    Detection d;
+    d.frame = i;
+    if (!cv::findChessboardCornersSB(grey, pattern, d.corners, cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY)) return;
+    // Refined where the image's gradients are orthogonal to the rays from the corner: unbiased by
+    // the board's tilt, as the corner's edges stay straight lines through it.
+    // The window stays within a third of the nearest corners' spacing (between 5x5 and 17x17 px).
+    double spacing = INFINITY;
+    for (int r = 0; r < board.rows; ++r)
+      for (int c = 0; c + 1 < board.cols; ++c)
+        spacing = std::min<double>(spacing, cv::norm(d.corners[r * board.cols + c + 1] - d.corners[r * board.cols + c]));
+    for (int r = 0; r + 1 < board.rows; ++r)
+      for (int c = 0; c < board.cols; ++c)
+        spacing = std::min<double>(spacing, cv::norm(d.corners[(r + 1) * board.cols + c] - d.corners[r * board.cols + c]));
+    const int half = std::clamp(static_cast<int>(spacing / 3.0), 2, 8);
+    cv::cornerSubPix(grey, d.corners, cv::Size(half, half), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-4));
+    d.edge_width = cv::estimateChessboardSharpness(grey, pattern, d.corners)[0];
+    d.place = Place(d.corners, board, grey.size());
+    found.push_back(std::move(d));
+  });
+  if (found.empty())
+    throw InputError(input.string() + ": the board " + board.ToString() + " is in none of the " +
+                     std::to_string(out.frames) + " frames (its inner corners: COLSxROWS)");
+  std::vector<Detection> sharp;
+  for (const Detection& d : found) {
+    CalibrationView v;
+    v.frame = d.frame;
+    if (d.edge_width > kMaxEdgeWidthPx) {
+      v.why_not = "blurred";
+    } else {
+      sharp.push_back(d);
+    }
+    out.views.push_back(v);
+  }
+  std::vector<Detection> used;
+  for (int k : PickViews(sharp, options.max_views)) used.push_back(sharp[k]);
+  if (static_cast<int>(used.size()) < kMinViews)
+    throw InputError(input.string() + ": the board is sharp in " + std::to_string(used.size()) + " frames; " +
+                     std::to_string(kMinViews) + " or more views are needed, at different places and tilts");
+  Solution s = Solve(used, board, options.model, *size);
+  std::vector<double> rms(used.size());
+  for (size_t v = 0; v < used.size(); ++v) rms[v] = ViewRms(s, v, used[v], board);
+  const double limit = std::max(0.5, 3.0 * Median(rms));
+  std::vector<Detection> kept;
+  std::vector<int> dropped;
+  for (size_t v = 0; v < used.size(); ++v) (rms[v] <= limit ? kept.push_back(used[v]) : dropped.push_back(used[v].frame));
+  if (!dropped.empty() && static_cast<int>(kept.size()) >= kMinViews) {
+    used = std::move(kept);
+    s = Solve(used, board, options.model, *size);
+  } else {
+    dropped.clear();
+  }
+  // The verdicts per view.
+  double sum = 0.0;
+  int corners = 0;
+  for (CalibrationView& v : out.views) {
+    if (!v.why_not.empty()) continue;
+    const auto it = std::find_if(used.begin(), used.end(), [&](const Detection& d) { return d.frame == v.frame; });
+    if (it == used.end()) {
+      v.why_not = std::count(dropped.begin(), dropped.end(), v.frame) ? "outlier" : "like another view";
+      continue;
+    }
+    v.used = true;
+    v.rms_px = ViewRms(s, it - used.begin(), *it, board);
+    sum += v.rms_px * v.rms_px * board.NumCorners();
+    corners += board.NumCorners();
+  }
+  out.camera = s.camera;
+  out.views_used = static_cast<int>(used.size());
+  out.rms_px = std::sqrt(sum / corners);
+  // Coverage: the 3x3 cells no corner fell in.
+  static const char* kCells[3][3] = {{"top-left", "top", "top-right"},
+                                     {"left", "centre", "right"},
+                                     {"bottom-left", "bottom", "bottom-right"}};
+  bool covered[3][3] = {};
+  for (const Detection& d : used)
+    for (const cv::Point2f& p : d.corners)
+      covered[std::clamp(int(3 * p.y / size->height), 0, 2)][std::clamp(int(3 * p.x / size->width), 0, 2)] = true;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (!covered[r][c]) out.uncovered.push_back(kCells[r][c]);
+  if (!s.deviations.empty()) {
+    const char* names[4] = {"fx", "fy", "cx", "cy"};
+    const double values[4] = {s.camera.fx, s.camera.fy, s.camera.cx, s.camera.cy};
+    for (int i = 0; i < 4; ++i) {
+      const bool weak = i < 2 ? s.deviations[i] > 0.005 * values[i] : s.deviations[i] > 5.0;
+      if (!weak) continue;
+      char line[96];
+      std::snprintf(line, sizeof(line), "%s %.2f +- %.2f px", names[i], values[i], s.deviations[i]);
+      out.weak.push_back(line);
+    }
+    if (s.deviations[0] > 0.05 * s.camera.fx)
+      throw InputError(input.string() + ": the views leave the focal length unconstrained (fx " +
+                       std::to_string(s.camera.fx) + " +- " + std::to_string(s.deviations[0]) +
+                       " px): tilt the board towards and away from the camera");
+  }
+  return out;
+}
+
+}  // namespace dsm

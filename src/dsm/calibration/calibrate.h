@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// Geometric calibration of a camera from views of a checkerboard (board.h), for the camera models
+// dsm reads (geometry/camera.h): pinhole, radtan (k1 k2 p1 p2) and equidistant (k1..k4).
+//
+//   1. Frames: every image of a folder (its images/ when there is one) or frame of a video.
+//   2. Detection: OpenCV's sector-based detector (findChessboardCornersSB), corners to ~0.05 px.
+//   3. Views: the sharp ones (the detector's own sharpness, median edge width under 3 px), at most
+//      `max_views`, picked greedily to differ most in where the board lies in the image, how large
+//      it is and how it is tilted (not 300 copies of one pose).
+//   4. Calibration: OpenCV's calibrateCamera (fisheye::calibrate for equidistant); views whose
+//      reprojection RMS exceeds 3x the median (and 0.5 px) are dropped and the rest calibrated
+//      again, once.
+//   5. What it says: the RMS per view and overall, the cells of a 3x3 grid over the image that no
+//      corner covered, and the parameters whose standard deviation (from the Jacobian at the
+//      solution) is large (focal lengths over 0.5%, the principal point over 5 px).
+// Throws InputError (a clear message, no calibration) when the board is never found, fewer than
+// kMinViews views are usable, or the focal length is left unconstrained.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "dsm/calibration/board.h"
+#include "dsm/geometry/camera.h"
+
+namespace dsm {
+
+struct CalibrationOptions {
+  BoardSpec board;
+  CameraModel model = CameraModel::kRadTan;
+  int max_views = 40;
+};
+
+struct CalibrationView {
+  int frame = -1;        // Index among the input's frames.
+  double rms_px = 0.0;   // Reprojection RMS of its corners at the solution (0: not used).
+  bool used = false;     // Calibrated with (else: not picked, or dropped as an outlier).
+  std::string why_not;   // When not used.
+};
+
+struct CalibrationResult {
+  CameraCalibration camera;
+  double rms_px = 0.0;
+  int frames = 0;  // Read.
+  std::vector<CalibrationView> views;  // Every frame the board was found in.
+  int views_used = 0;
+  std::vector<std::string> uncovered;  // Cells of the image no corner covered ("top-left", ...).
+  std::vector<std::string> weak;       // Poorly constrained parameters, with their deviation.
+};
+
+constexpr int kMinViews = 6;
+
+// The frames of `input` (a folder of images, a folder with images/, or a video file), 8-bit grey.
+CalibrationResult Calibrate(const std::filesystem::path& input, const CalibrationOptions& options);
+
+}  // namespace dsm
