@@ -75,7 +75,7 @@ Command AddCalibrate(CLI::App& app) {
   app.add_option("--board", a->board, "The board: checkerboard:COLSxROWS:SQUARE_M, COLSxROWS its inner corners (e.g. "
                                       "checkerboard:9x6:0.04)")
       ->required();
-  app.add_option("--model", a->model, "pinhole | radtan (k1 k2 p1 p2, default) | equidistant (k1..k4)");
+  app.add_option("--model", a->model, "pinhole | radtan (k1 k2 p1 p2, default) | equidistant (k1..k4) | fov (w)");
   app.add_option("--out", a->out, "The camera.yaml to write (default ./camera.yaml)");
   app.add_option("--json", a->json, "Also write the result as JSON: rms_px, views_used, intrinsics, distortion, ...");
   app.add_option("--max-views", a->max_views, "Most views calibrated with, picked to differ (default 40)");

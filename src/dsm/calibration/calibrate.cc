@@ -12,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "dsm/calibration/refine.h"
 #include "dsm/io/image_io.h"
 #include "dsm/lie/se3.h"
 #include "dsm/util/check.h"
@@ -82,6 +83,29 @@ std::array<double, 5> Place(const std::vector<cv::Point2f>& c, const BoardSpec& 
           std::log(top / bottom), std::log(left / right)};
 }
 
+// The board in one frame: its corners, refined where the image's gradients are orthogonal to the
+// rays from the corner (unbiased by the board's tilt, as the corner's edges stay straight lines
+// through it), in a window within a third of the nearest corners' spacing (5x5 to 17x17 px).
+std::optional<Detection> Detect(const cv::Mat& grey, const BoardSpec& board) {
+  const cv::Size pattern(board.cols, board.rows);
+  Detection d;
+  if (!cv::findChessboardCornersSB(grey, pattern, d.corners, cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY))
+    return std::nullopt;
+  double spacing = INFINITY;
+  for (int r = 0; r < board.rows; ++r)
+    for (int c = 0; c + 1 < board.cols; ++c)
+      spacing = std::min<double>(spacing, cv::norm(d.corners[r * board.cols + c + 1] - d.corners[r * board.cols + c]));
+  for (int r = 0; r + 1 < board.rows; ++r)
+    for (int c = 0; c < board.cols; ++c)
+      spacing = std::min<double>(spacing, cv::norm(d.corners[(r + 1) * board.cols + c] - d.corners[r * board.cols + c]));
+  const int half = std::clamp(static_cast<int>(spacing / 3.0), 2, 8);
+  cv::cornerSubPix(grey, d.corners, cv::Size(half, half), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-4));
+  d.edge_width = cv::estimateChessboardSharpness(grey, pattern, d.corners)[0];
+  d.place = Place(d.corners, board, grey.size());
+  return d;
+}
+
 // Farthest-point sampling of the views' places, from the sharpest.
 std::vector<int> PickViews(const std::vector<Detection>& found, int max_views) {
   std::vector<int> picked;
@@ -108,10 +132,12 @@ std::vector<int> PickViews(const std::vector<Detection>& found, int max_views) {
 struct Solution {
   CameraCalibration camera;
   std::vector<SE3d> cam_from_board;
-  std::vector<double> deviations;  // Of fx, fy, cx, cy (empty: not known).
+  std::vector<double> deviations;  // RefinedCalibration::deviations.
 };
 
-Solution Solve(const std::vector<Detection>& views, const BoardSpec& board, CameraModel model, cv::Size size) {
+// OpenCV's calibration, the initial solution: calibrateCamera (pinhole, radtan: k3 held at 0) or
+// fisheye::calibrate (equidistant).
+Solution OpenCvSolution(const std::vector<Detection>& views, const BoardSpec& board, CameraModel model, cv::Size size) {
   std::vector<cv::Point3f> object;
   for (const Eigen::Vector3d& p : board.Corners()) object.emplace_back(p.x(), p.y(), p.z());
   Solution s;
@@ -137,10 +163,8 @@ Solution Solve(const std::vector<Detection>& views, const BoardSpec& board, Came
       for (const Detection& d : views) img.push_back(d.corners);
       int flags = cv::CALIB_FIX_K3;
       if (model == CameraModel::kPinhole) flags |= cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_ZERO_TANGENT_DIST;
-      cv::Mat std_intrinsics, std_extrinsics, per_view;
-      cv::calibrateCamera(obj, img, size, K, D, rvecs, tvecs, std_intrinsics, std_extrinsics, per_view, flags,
+      cv::calibrateCamera(obj, img, size, K, D, rvecs, tvecs, flags,
                           cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12));
-      for (int i = 0; i < 4; ++i) s.deviations.push_back(std_intrinsics.at<double>(i));
     }
   } catch (const cv::Exception& e) {
     throw InputError(std::string("calibration failed: the views do not constrain the camera (") + e.what() + ")");
@@ -163,6 +187,59 @@ Solution Solve(const std::vector<Detection>& views, const BoardSpec& board, Came
   return s;
 }
 
+// The FOV camera closest to an equidistant one: the same fx fy cx cy, and the w whose radial
+// mapping atan(2 r tan(w / 2)) / w best matches the equidistant theta_d(r) out to the image's
+// corners (golden-section search).
+CameraCalibration FovFrom(const CameraCalibration& equidistant) {
+  double r_max = 0.0;
+  for (const Eigen::Vector2d corner : {Eigen::Vector2d(0, 0), Eigen::Vector2d(equidistant.width - 1, 0),
+                                       Eigen::Vector2d(0, equidistant.height - 1),
+                                       Eigen::Vector2d(equidistant.width - 1, equidistant.height - 1)}) {
+    Eigen::Vector2d n;
+    if (equidistant.Unproject(corner, &n)) r_max = std::max(r_max, n.norm());
+  }
+  if (r_max <= 0.0) r_max = 1.0;
+  CameraCalibration fov = equidistant;
+  fov.model = CameraModel::kFov;
+  const auto misfit = [&](double w) {
+    fov.distortion = {w};
+    double sum = 0.0;
+    for (int i = 1; i <= 50; ++i) {
+      const Eigen::Vector2d xy(r_max * i / 50.0, 0.0);
+      sum += (fov.Distort(xy) - equidistant.Distort(xy)).squaredNorm();
+    }
+    return sum;
+  };
+  double a = 0.01, b = 3.0;
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int i = 0; i < 100; ++i) {
+    const double c = b - g * (b - a), d = a + g * (b - a);
+    if (misfit(c) < misfit(d)) {
+      b = d;
+    } else {
+      a = c;
+    }
+  }
+  fov.distortion = {0.5 * (a + b)};
+  return fov;
+}
+
+// OpenCV's solution (FOV: from the equidistant one), refined with dsm's own camera model.
+Solution Solve(const std::vector<Detection>& views, const BoardSpec& board, CameraModel model, cv::Size size) {
+  Solution s = OpenCvSolution(views, board, model == CameraModel::kFov ? CameraModel::kEquidistant : model, size);
+  if (model == CameraModel::kFov) s.camera = FovFrom(s.camera);
+  std::vector<CornerView> corners(views.size());
+  for (size_t v = 0; v < views.size(); ++v) {
+    corners[v].board = board.Corners();
+    for (const cv::Point2f& p : views[v].corners) corners[v].image.emplace_back(p.x, p.y);
+  }
+  const RefinedCalibration refined = RefineCalibration(s.camera, s.cam_from_board, corners);
+  s.camera = refined.camera;
+  s.cam_from_board = refined.cam_from_board;
+  s.deviations = refined.deviations;
+  return s;
+}
+
 // Reprojection RMS of a view's corners with the model as dsm projects it.
 double ViewRms(const Solution& s, size_t v, const Detection& d, const BoardSpec& board) {
   const std::vector<Eigen::Vector3d> corners = board.Corners();
@@ -177,10 +254,7 @@ double ViewRms(const Solution& s, size_t v, const Detection& d, const BoardSpec&
 }  // namespace
 
 CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& options) {
-  if (options.model == CameraModel::kFov)
-    throw InputError("--model fov: dsm calibrate fits pinhole, radtan and equidistant cameras (no FOV yet)");
   const BoardSpec& board = options.board;
-  const cv::Size pattern(board.cols, board.rows);
   std::vector<Detection> found;
   std::optional<cv::Size> size;
   CalibrationResult out;
@@ -190,25 +264,10 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
       throw InputError(input.string() + ": frame " + std::to_string(i) + " is " + std::to_string(grey.cols) + "x" +
                        std::to_string(grey.rows) + ", the first was " + std::to_string(size->width) + "x" +
                        std::to_string(size->height));
-    Detection d;
-    d.frame = i;
-    if (!cv::findChessboardCornersSB(grey, pattern, d.corners, cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY)) return;
-    // Refined where the image's gradients are orthogonal to the rays from the corner: unbiased by
-    // the board's tilt, as the corner's edges stay straight lines through it.
-    // The window stays within a third of the nearest corners' spacing (between 5x5 and 17x17 px).
-    double spacing = INFINITY;
-    for (int r = 0; r < board.rows; ++r)
-      for (int c = 0; c + 1 < board.cols; ++c)
-        spacing = std::min<double>(spacing, cv::norm(d.corners[r * board.cols + c + 1] - d.corners[r * board.cols + c]));
-    for (int r = 0; r + 1 < board.rows; ++r)
-      for (int c = 0; c < board.cols; ++c)
-        spacing = std::min<double>(spacing, cv::norm(d.corners[(r + 1) * board.cols + c] - d.corners[r * board.cols + c]));
-    const int half = std::clamp(static_cast<int>(spacing / 3.0), 2, 8);
-    cv::cornerSubPix(grey, d.corners, cv::Size(half, half), cv::Size(-1, -1),
-                     cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-4));
-    d.edge_width = cv::estimateChessboardSharpness(grey, pattern, d.corners)[0];
-    d.place = Place(d.corners, board, grey.size());
-    found.push_back(std::move(d));
+    std::optional<Detection> d = Detect(grey, board);
+    if (!d) return;
+    d->frame = i;
+    found.push_back(std::move(*d));
   });
   if (found.empty())
     throw InputError(input.string() + ": the board " + board.ToString() + " is in none of the " +

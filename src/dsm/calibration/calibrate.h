@@ -1,17 +1,19 @@
 // SPDX-License-Identifier: MIT
-// Geometric calibration of a camera from views of a checkerboard (board.h), for the camera models
-// dsm reads (geometry/camera.h): pinhole, radtan (k1 k2 p1 p2) and equidistant (k1..k4).
+// Geometric calibration of a camera from views of a checkerboard (board.h), for every camera model
+// dsm reads (geometry/camera.h): pinhole, radtan (k1 k2 p1 p2), equidistant (k1..k4) and fov (w).
 //
 //   1. Frames: every image of a folder (its images/ when there is one) or frame of a video.
-//   2. Detection: OpenCV's sector-based detector (findChessboardCornersSB), corners to ~0.05 px.
-//   3. Views: the sharp ones (the detector's own sharpness, median edge width under 3 px), at most
-//      `max_views`, picked greedily to differ most in where the board lies in the image, how large
-//      it is and how it is tilted (not 300 copies of one pose).
-//   4. Calibration: OpenCV's calibrateCamera (fisheye::calibrate for equidistant); views whose
-//      reprojection RMS exceeds 3x the median (and 0.5 px) are dropped and the rest calibrated
-//      again, once.
+//   2. Detection: OpenCV's sector-based detector (findChessboardCornersSB), refined by cornerSubPix
+//      in a window a third of the corners' spacing (unbiased by the board's tilt).
+//   3. Views: the sharp ones (the detector's median edge width under 3 px), at most `max_views`,
+//      picked greedily to differ most in where the board lies in the image, how large it is and
+//      how it is tilted (not 300 copies of one pose).
+//   4. Calibration: OpenCV's calibrateCamera (fisheye::calibrate for equidistant; fov starts from
+//      the equidistant solution) as the start, then every parameter and pose refined by Ceres
+//      with dsm's own camera model (refine.h). Views whose reprojection RMS exceeds 3x the median
+//      (and 0.5 px) are dropped and the rest calibrated again, once.
 //   5. What it says: the RMS per view and overall, the cells of a 3x3 grid over the image that no
-//      corner covered, and the parameters whose standard deviation (from the Jacobian at the
+//      corner covered, and the parameters whose standard deviation (from the covariance at the
 //      solution) is large (focal lengths over 0.5%, the principal point over 5 px).
 // Throws InputError (a clear message, no calibration) when the board is never found, fewer than
 // kMinViews views are usable, or the focal length is left unconstrained.

@@ -51,6 +51,7 @@ void ExpectFound(CameraModel model) {
 TEST(Calibrate, FindsAPinholeCamera) { ExpectFound(CameraModel::kPinhole); }
 TEST(Calibrate, FindsARadTanCamera) { ExpectFound(CameraModel::kRadTan); }
 TEST(Calibrate, FindsAnEquidistantCamera) { ExpectFound(CameraModel::kEquidistant); }
+TEST(Calibrate, FindsAFovCamera) { ExpectFound(CameraModel::kFov); }
 
 TEST(Calibrate, ABoardNeverFoundIsAMessage) {
   const auto dir = testing::ScratchDir("calibrate_wrong_board");
