@@ -192,7 +192,7 @@ Solution OpenCvSolution(const std::vector<Detection>& views, const BoardSpec& bo
 // corners (golden-section search).
 CameraCalibration FovFrom(const CameraCalibration& equidistant) {
   double r_max = 0.0;
-  for (const Eigen::Vector2d corner : {Eigen::Vector2d(0, 0), Eigen::Vector2d(equidistant.width - 1, 0),
+  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(0, 0), Eigen::Vector2d(equidistant.width - 1, 0),
                                        Eigen::Vector2d(0, equidistant.height - 1),
                                        Eigen::Vector2d(equidistant.width - 1, equidistant.height - 1)}) {
     Eigen::Vector2d n;
