@@ -11,6 +11,8 @@
 #include "dsm/io/dataset.h"
 #include "dsm/io/folder_dataset.h"
 #include "dsm/io/image_io.h"
+#include "dsm/synth/renderer.h"
+#include "dsm/synth/scenes.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -82,7 +84,7 @@ Image<uint8_t> BoardRenderer::Render(const BoardSpec& board, const SE3d& cam_fro
   const Eigen::Matrix3d R = board_from_cam.So3().Matrix();
   const Eigen::Vector3d origin = board_from_cam.Translation();  // The camera centre in the board's frame.
   const int w = camera_.width * kSamples;
-  Image<float> grey(camera_.width, camera_.height);
+  Image<float> albedo(camera_.width, camera_.height);
   tbb::parallel_for(0, camera_.height, [&](int y) {
     for (int x = 0; x < camera_.width; ++x) {
       double sum = 0.0;
@@ -101,16 +103,14 @@ Image<uint8_t> BoardRenderer::Render(const BoardSpec& board, const SE3d& cam_fro
           }
           sum += value;
         }
-      grey(x, y) = static_cast<float>(sum / (kSamples * kSamples));
+      albedo(x, y) = static_cast<float>(sum / (kSamples * kSamples) / 255.0);
     }
   });
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, noise_sigma);
-  Image<uint8_t> out(camera_.width, camera_.height);
-  for (int y = 0; y < camera_.height; ++y)
-    for (int x = 0; x < camera_.width; ++x)
-      out(x, y) = static_cast<uint8_t>(std::clamp(std::lround(grey(x, y) + noise(rng)), 0L, 255L));
-  return out;
+  // The synthetic world's image formation at unit gain (a grey level per 1/255 of albedo).
+  synth::FormationOptions formation;
+  formation.noise_sigma = noise_sigma;
+  formation.noise_seed = seed;
+  return synth::FormImage(albedo, synth::Photometry{}, formation);
 }
 
 std::vector<SE3d> BoardViews(const CameraCalibration& camera, const BoardSpec& board, int count, uint32_t seed) {

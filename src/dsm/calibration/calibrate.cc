@@ -2,21 +2,23 @@
 #include "dsm/calibration/calibrate.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <array>
-#include <functional>
+#include <memory>
 #include <optional>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "dsm/calibration/refine.h"
-#include "dsm/io/image_io.h"
+#include "dsm/io/image_store.h"
+#include "dsm/io/mat_gray.h"
+#include "dsm/io/video_dataset.h"
 #include "dsm/lie/se3.h"
 #include "dsm/util/check.h"
 #include "dsm/util/median.h"
+#include "dsm/util/nelder_mead.h"
 
 namespace dsm {
 
@@ -33,39 +35,11 @@ struct Detection {
   std::array<double, 5> place{};  // Where and how the board lies in the image (PickViews).
 };
 
-bool IsImageFile(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".pgm" || ext == ".ppm" || ext == ".bmp" ||
-         ext == ".tif" || ext == ".tiff";
-}
-
-// Calls `take` with each frame of `input`, 8-bit grey, in order; returns how many.
-int ForEachFrame(const fs::path& input, const std::function<void(int, const cv::Mat&)>& take) {
-  if (fs::is_directory(input)) {
-    const fs::path dir = fs::is_directory(input / "images") ? input / "images" : input;
-    std::vector<fs::path> files;
-    for (const auto& e : fs::directory_iterator(dir))
-      if (e.is_regular_file() && IsImageFile(e.path())) files.push_back(e.path());
-    std::sort(files.begin(), files.end());
-    if (files.empty()) throw InputError(dir.string() + ": no image files (png, jpg, pgm, bmp, tiff)");
-    for (size_t i = 0; i < files.size(); ++i) {
-      const Image<uint8_t> image = ReadGray8(files[i]);
-      take(static_cast<int>(i), cv::Mat(image.height(), image.width(), CV_8UC1, const_cast<uint8_t*>(image.data())).clone());
-    }
-    return static_cast<int>(files.size());
-  }
+// The frames of `input`: a folder of images (its images/ when it has one) or a video file.
+std::shared_ptr<ImageStore> FramesOf(const fs::path& input) {
+  if (fs::is_directory(input)) return MakeFolderStore(fs::is_directory(input / "images") ? input / "images" : input);
   if (!fs::exists(input)) throw InputError(input.string() + ": no such file or folder");
-  cv::VideoCapture video(input.string());
-  if (!video.isOpened()) throw InputError(input.string() + ": cannot open the video");
-  int n = 0;
-  for (cv::Mat frame, grey; video.read(frame); ++n) {
-    if (frame.channels() == 3) cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
-    else grey = frame;
-    take(n, grey);
-  }
-  if (n == 0) throw InputError(input.string() + ": the video has no frames");
-  return n;
+  return OpenVideoFrames(input);
 }
 
 // Centre (x, y over the image size), size (square root of the corners' bounding area over the
@@ -175,21 +149,15 @@ Solution OpenCvSolution(const std::vector<Detection>& views, const BoardSpec& bo
   s.camera.cy = K.at<double>(1, 2);
   const int n = model == CameraModel::kPinhole ? 0 : 4;
   for (int i = 0; i < n; ++i) s.camera.distortion.push_back(D.at<double>(i));
-  for (size_t v = 0; v < views.size(); ++v) {
-    cv::Mat R;
-    cv::Rodrigues(rvecs[v], R);
-    Eigen::Matrix3d r;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) r(i, j) = R.at<double>(i, j);
-    const Eigen::Vector3d t(tvecs[v].at<double>(0), tvecs[v].at<double>(1), tvecs[v].at<double>(2));
-    s.cam_from_board.emplace_back(SO3d(r), t);
-  }
+  // OpenCV's rotation vectors are SO(3)'s tangent.
+  const auto vec3 = [](const cv::Mat& m) { return Eigen::Vector3d(m.at<double>(0), m.at<double>(1), m.at<double>(2)); };
+  for (size_t v = 0; v < views.size(); ++v) s.cam_from_board.emplace_back(SO3d::Exp(vec3(rvecs[v])), vec3(tvecs[v]));
   return s;
 }
 
 // The FOV camera closest to an equidistant one: the same fx fy cx cy, and the w whose radial
 // mapping atan(2 r tan(w / 2)) / w best matches the equidistant theta_d(r) out to the image's
-// corners (golden-section search).
+// corners (the start of the refinement).
 CameraCalibration FovFrom(const CameraCalibration& equidistant) {
   double r_max = 0.0;
   for (const Eigen::Vector2d& corner : {Eigen::Vector2d(0, 0), Eigen::Vector2d(equidistant.width - 1, 0),
@@ -201,8 +169,9 @@ CameraCalibration FovFrom(const CameraCalibration& equidistant) {
   if (r_max <= 0.0) r_max = 1.0;
   CameraCalibration fov = equidistant;
   fov.model = CameraModel::kFov;
-  const auto misfit = [&](double w) {
-    fov.distortion = {w};
+  const auto misfit = [&](const Eigen::VectorXd& w) {
+    if (!(std::abs(w[0]) > 1e-6)) return double(INFINITY);  // w and -w map alike; 0 is no model.
+    fov.distortion = {w[0]};
     double sum = 0.0;
     for (int i = 1; i <= 50; ++i) {
       const Eigen::Vector2d xy(r_max * i / 50.0, 0.0);
@@ -210,17 +179,9 @@ CameraCalibration FovFrom(const CameraCalibration& equidistant) {
     }
     return sum;
   };
-  double a = 0.01, b = 3.0;
-  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  for (int i = 0; i < 100; ++i) {
-    const double c = b - g * (b - a), d = a + g * (b - a);
-    if (misfit(c) < misfit(d)) {
-      b = d;
-    } else {
-      a = c;
-    }
-  }
-  fov.distortion = {0.5 * (a + b)};
+  NelderMeadOptions search;
+  search.tolerance = 1e-15;
+  fov.distortion = {std::abs(NelderMead(misfit, Eigen::VectorXd::Constant(1, 1.0), search).x[0])};
   return fov;
 }
 
@@ -240,15 +201,19 @@ Solution Solve(const std::vector<Detection>& views, const BoardSpec& board, Came
   return s;
 }
 
-// Reprojection RMS of a view's corners with the model as dsm projects it.
-double ViewRms(const Solution& s, size_t v, const Detection& d, const BoardSpec& board) {
+// Reprojection RMS of each view's corners with the model as dsm projects it.
+std::vector<double> ViewRms(const Solution& s, const std::vector<Detection>& views, const BoardSpec& board) {
   const std::vector<Eigen::Vector3d> corners = board.Corners();
-  double sum = 0.0;
-  for (size_t i = 0; i < corners.size(); ++i) {
-    const Eigen::Vector2d px = s.camera.Project(s.cam_from_board[v] * corners[i]);
-    sum += (px - Eigen::Vector2d(d.corners[i].x, d.corners[i].y)).squaredNorm();
+  std::vector<double> rms;
+  for (size_t v = 0; v < views.size(); ++v) {
+    double sum = 0.0;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      const Eigen::Vector2d px = s.camera.Project(s.cam_from_board[v] * corners[i]);
+      sum += (px - Eigen::Vector2d(views[v].corners[i].x, views[v].corners[i].y)).squaredNorm();
+    }
+    rms.push_back(std::sqrt(sum / corners.size()));
   }
-  return std::sqrt(sum / corners.size());
+  return rms;
 }
 
 }  // namespace
@@ -256,19 +221,25 @@ double ViewRms(const Solution& s, size_t v, const Detection& d, const BoardSpec&
 CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& options) {
   const BoardSpec& board = options.board;
   std::vector<Detection> found;
-  std::optional<cv::Size> size;
   CalibrationResult out;
-  out.frames = ForEachFrame(input, [&](int i, const cv::Mat& grey) {
+  const std::shared_ptr<ImageStore> frames = FramesOf(input);
+  const std::vector<std::string> names = frames->List();
+  if (names.empty()) throw InputError(frames->Describe() + ": no image files (png, jpg, pgm, bmp, tiff)");
+  out.frames = static_cast<int>(names.size());
+  std::optional<cv::Size> size;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const Image<uint8_t> image = frames->Load(names[i]);
+    const cv::Mat grey = Gray8View(image);
     if (!size) size = grey.size();
     if (grey.size() != *size)
       throw InputError(input.string() + ": frame " + std::to_string(i) + " is " + std::to_string(grey.cols) + "x" +
                        std::to_string(grey.rows) + ", the first was " + std::to_string(size->width) + "x" +
                        std::to_string(size->height));
     std::optional<Detection> d = Detect(grey, board);
-    if (!d) return;
-    d->frame = i;
+    if (!d) continue;
+    d->frame = static_cast<int>(i);
     found.push_back(std::move(*d));
-  });
+  }
   if (found.empty())
     throw InputError(input.string() + ": the board " + board.ToString() + " is in none of the " +
                      std::to_string(out.frames) + " frames (its inner corners: COLSxROWS)");
@@ -289,8 +260,7 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
     throw InputError(input.string() + ": the board is sharp in " + std::to_string(used.size()) + " frames; " +
                      std::to_string(kMinViews) + " or more views are needed, at different places and tilts");
   Solution s = Solve(used, board, options.model, *size);
-  std::vector<double> rms(used.size());
-  for (size_t v = 0; v < used.size(); ++v) rms[v] = ViewRms(s, v, used[v], board);
+  std::vector<double> rms = ViewRms(s, used, board);
   const double limit = std::max(0.5, 3.0 * Median(rms));
   std::vector<Detection> kept;
   std::vector<int> dropped;
@@ -298,12 +268,12 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
   if (!dropped.empty() && static_cast<int>(kept.size()) >= kMinViews) {
     used = std::move(kept);
     s = Solve(used, board, options.model, *size);
+    rms = ViewRms(s, used, board);
   } else {
     dropped.clear();
   }
-  // The verdicts per view.
+  // The verdicts per view; all views have the board's corners, so the overall RMS is their RMS.
   double sum = 0.0;
-  int corners = 0;
   for (CalibrationView& v : out.views) {
     if (!v.why_not.empty()) continue;
     const auto it = std::find_if(used.begin(), used.end(), [&](const Detection& d) { return d.frame == v.frame; });
@@ -312,13 +282,12 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
       continue;
     }
     v.used = true;
-    v.rms_px = ViewRms(s, it - used.begin(), *it, board);
-    sum += v.rms_px * v.rms_px * board.NumCorners();
-    corners += board.NumCorners();
+    v.rms_px = rms[it - used.begin()];
+    sum += v.rms_px * v.rms_px;
   }
   out.camera = s.camera;
   out.views_used = static_cast<int>(used.size());
-  out.rms_px = std::sqrt(sum / corners);
+  out.rms_px = std::sqrt(sum / used.size());
   // Coverage: the 3x3 cells no corner fell in.
   static const char* kCells[3][3] = {{"top-left", "top", "top-right"},
                                      {"left", "centre", "right"},

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/calibration/refine.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
-#include <memory>
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
@@ -17,7 +18,7 @@ struct CornerError {
   CameraCalibration camera;  // Its model and size; the values come from the parameters.
   Eigen::Vector3d board;
   Eigen::Vector2d image;
-  bool Evaluate(double const* const* p, double* residual) const {
+  bool operator()(double const* const* p, double* residual) const {
     CameraCalibration c = camera;
     c.fx = p[0][0], c.fy = p[0][1], c.cx = p[0][2], c.cy = p[0][3];
     const size_t n = c.distortion.size();
@@ -32,7 +33,6 @@ struct CornerError {
     residual[1] = px.y() - image.y();
     return std::isfinite(residual[0]) && std::isfinite(residual[1]);
   }
-  bool operator()(double const* const* p, double* residual) const { return Evaluate(p, residual); }
 };
 
 }  // namespace
@@ -43,8 +43,7 @@ RefinedCalibration RefineCalibration(const CameraCalibration& initial, const std
   std::vector<double> distortion = initial.distortion;
   std::vector<std::array<double, 6>> poses(views.size());
   for (size_t v = 0; v < views.size(); ++v) {
-    const Eigen::AngleAxisd aa(cam_from_board[v].So3().Matrix());
-    const Eigen::Vector3d r = aa.angle() * aa.axis(), t = cam_from_board[v].Translation();
+    const Eigen::Vector3d r = cam_from_board[v].So3().Log(), t = cam_from_board[v].Translation();
     poses[v] = {r.x(), r.y(), r.z(), t.x(), t.y(), t.z()};
   }
   ceres::Problem problem;
@@ -77,13 +76,9 @@ RefinedCalibration RefineCalibration(const CameraCalibration& initial, const std
   out.camera = initial;
   out.camera.fx = intrinsics[0], out.camera.fy = intrinsics[1], out.camera.cx = intrinsics[2], out.camera.cy = intrinsics[3];
   out.camera.distortion = distortion;
-  for (const auto& p : poses) {
-    const Eigen::Vector3d r(p[0], p[1], p[2]);
-    const double angle = r.norm();
-    const Eigen::Matrix3d R =
-        angle > 0.0 ? Eigen::AngleAxisd(angle, r / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
-    out.cam_from_board.emplace_back(SO3d(R), Eigen::Vector3d(p[3], p[4], p[5]));
-  }
+  for (const auto& p : poses)
+    out.cam_from_board.emplace_back(SO3d::Exp(Eigen::Vector3d(p[0], p[1], p[2])), Eigen::Vector3d(p[3], p[4], p[5]));
+
   // Deviations: the covariance of the camera's blocks, scaled by the residuals' variance.
   ceres::Covariance::Options cov_options;
   ceres::Covariance covariance(cov_options);

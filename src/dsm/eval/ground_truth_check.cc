@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "dsm/io/mat_gray.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -20,10 +21,6 @@ void GtCheckOptions::Validate() const {
 }
 
 namespace {
-
-cv::Mat ToMat(const Image<uint8_t>& img) {
-  return cv::Mat(img.height(), img.width(), CV_8UC1, const_cast<uint8_t*>(img.data())).clone();
-}
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
@@ -43,7 +40,8 @@ std::vector<PairTracks> TrackPairs(const Dataset& dataset, const GtCheckOptions&
   const size_t every = std::max<size_t>(1, (candidates + options.max_pairs - 1) / options.max_pairs);
   for (size_t c = 0; c < candidates; c += every) {
     const size_t i = c * options.stride, j = i + gap;
-    const cv::Mat a = ToMat(dataset.LoadImage(i)), b = ToMat(dataset.LoadImage(j));
+    const Image<uint8_t> image_a = dataset.LoadImage(i), image_b = dataset.LoadImage(j);
+    const cv::Mat a = Gray8View(image_a), b = Gray8View(image_b);
     std::vector<cv::Point2f> pa, pb, back;
     cv::goodFeaturesToTrack(a, pa, options.corners, 0.01, 10);
     if (pa.empty()) continue;

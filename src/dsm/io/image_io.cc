@@ -100,7 +100,7 @@ Image<float> ReadGrayFloat(const std::filesystem::path& path) {
 }
 
 void WriteGray8(const std::filesystem::path& path, const Image<uint8_t>& image) {
-  Write(path, cv::Mat(image.height(), image.width(), CV_8UC1, const_cast<uint8_t*>(image.data())));
+  Write(path, Gray8View(image));
 }
 
 void WriteGray16(const std::filesystem::path& path, const Image<uint16_t>& image) {

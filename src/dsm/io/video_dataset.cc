@@ -103,6 +103,17 @@ bool IsVideoFile(const fs::path& path) {
   return ext == ".mp4" || ext == ".avi" || ext == ".mkv" || ext == ".mov" || ext == ".m4v" || ext == ".webm";
 }
 
+std::shared_ptr<ImageStore> OpenVideoFrames(const fs::path& video) {
+  cv::VideoCapture capture = OpenCapture(video);
+  size_t frames = 0;
+  try {
+    while (capture.grab()) ++frames;
+  } catch (const cv::Exception&) {
+  }
+  if (frames == 0) throw InputError(video.string() + ": no frame could be decoded");
+  return std::make_shared<VideoStore>(video, frames);
+}
+
 Dataset OpenVideo(const fs::path& video, const VideoInput& input) {
   if (input.camera_yaml.empty()) {
     throw InputError(video.string() + ": a video needs its camera calibration (--calib CAMERA.yaml)");

@@ -11,8 +11,10 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 
 #include "dsm/io/dataset.h"
+#include "dsm/io/image_store.h"
 
 namespace dsm {
 
@@ -24,6 +26,11 @@ struct VideoInput {
 
 // True for the file name endings read as video (case-insensitive).
 bool IsVideoFile(const std::filesystem::path& path);
+
+// The frames of `video` as images ("frame 0", "frame 1", ...), without a calibration: read through
+// once to count them, then decoded in order as they are loaded. Throws InputError naming the file
+// when it cannot be opened or holds no frame.
+std::shared_ptr<ImageStore> OpenVideoFrames(const std::filesystem::path& video);
 
 // Throws InputError naming the file when the video cannot be opened or decoded, holds fewer than
 // one frame, or differs in size from the calibration; and for a bad camera.yaml or ground truth.

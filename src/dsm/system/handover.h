@@ -4,7 +4,7 @@
 //
 //   tracking side --MapStart, MappingJob-->  mapping side   (jobs, run in the order handed over)
 //   tracking side <--TrackingReference----   mapping side   (the newest keyframe, published)
-//   tracking side <--IdleMap, FramePose--  mapping side   (only while it is idle)
+//   tracking side <--IdleMap, FramePose---   mapping side   (only while it is idle)
 //
 // A MapStart, MappingJob and TrackingReference are immutable once handed over. The map itself is
 // the mapping side's: the tracking side reads it only through an IdleMap, lent while nothing is
@@ -106,6 +106,13 @@ struct FramePose {
   // The reference keyframe's scale (TrackingReference::scale) when the frame was tracked: a loop
   // closure that rescales the keyframe later scales the frame's offset from it alike.
   double reference_scale = 1.0;
+  // frame_from_reference with the change of the initial keyframes' distance applied: `baseline`
+  // is that distance now (MappingSide::InitBaseline).
+  SE3d AtBaseline(double baseline) const {
+    SE3d out = frame_from_reference;
+    if (init_baseline > 0.0) out.SetTranslation(out.Translation() * (baseline / init_baseline));
+    return out;
+  }
 };
 
 // The mapping side's map, lent to the tracking side while the mapping side is idle

@@ -165,6 +165,7 @@ Trajectory MappingSide::KeyframeTrajectory() const {
 }
 
 double MappingSide::InitBaseline() const {
+  if (map_.NumKeyframes() < 2) return 0.0;
   return (map_.keyframe(1).cam_from_world.Inverse().Translation() -
           map_.keyframe(0).cam_from_world.Inverse().Translation())
       .norm();

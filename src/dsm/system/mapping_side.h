@@ -80,7 +80,7 @@ class MappingSide final : public MappingInbox, private IdleMap, private PlaceMap
   const Map& map() const override { return map_; }
   std::vector<int> ActiveKeyframes() const;  // The window: temporal (oldest first) then covisible.
   std::vector<int> ActivePointIds() const;   // Live points hosted by the window's keyframes.
-  double InitBaseline() const;               // Distance between keyframes 0 and 1 (their camera centres).
+  double InitBaseline() const;  // Distance between keyframes 0 and 1 (their camera centres); 0 without both.
   // The product of the scales loop closures gave keyframe k (its hosted geometry is that much
   // smaller than when it was mapped).
   double KeyframeScale(int k) const {

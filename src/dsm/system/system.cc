@@ -77,12 +77,10 @@ Trajectory System::KeyframeTrajectory() const { return mapping_.KeyframeTrajecto
 Trajectory System::FrameTrajectory() const {
   const Map& map = mapping_.map();
   Trajectory t;
-  const double baseline = map.NumKeyframes() > 1 ? mapping_.InitBaseline() : 0.0;
+  const double baseline = mapping_.InitBaseline();
   for (const FramePose& f : tracking_.frames()) {
     if (f.reference < 0) continue;
-    SE3d frame_from_reference = f.frame_from_reference;
-    if (f.init_baseline > 0.0)
-      frame_from_reference.SetTranslation(frame_from_reference.Translation() * (baseline / f.init_baseline));
+    SE3d frame_from_reference = f.AtBaseline(baseline);
     frame_from_reference.SetTranslation(frame_from_reference.Translation() *
                                         (f.reference_scale / mapping_.KeyframeScale(f.reference)));
     t.Add(f.t_ns, (frame_from_reference * map.keyframe(f.reference).cam_from_world).Inverse());
@@ -124,22 +122,9 @@ bool System::MergeVerified(System& other, int taken_id) {
   if (tracking_.state() == TrackingState::kConfirming) return false;
   DSM_CHECK(tracking_.next_keyframe() == mapping_.map().NumKeyframes(), "a merge waits until every keyframe is mapped");
   DSM_CHECK(mapping_.MergeReadyWith(other.mapping_), "a merge takes the map its keyframe recognised");
-  // The other map's frames, relative to their keyframes as before (their offsets scale with the
-  // keyframe: MappingSide::KeyframeScale), in time order with this map's.
-  const Map& other_map = other.mapping_.map();
-  const double baseline = other_map.NumKeyframes() > 1 ? other.mapping_.InitBaseline() : 0.0;
-  const int n = mapping_.TakeMerge(other.mapping_, taken_id);
-  std::vector<FramePose> frames;
-  for (FramePose f : other.tracking_.TakeFrames()) {
-    if (f.reference < 0) continue;
-    if (f.init_baseline > 0.0) {
-      f.frame_from_reference.SetTranslation(f.frame_from_reference.Translation() * (baseline / f.init_baseline));
-      f.init_baseline = 0.0;
-    }
-    f.reference += n;
-    frames.push_back(f);
-  }
-  tracking_.MergeFrames(frames, mapping_.map().NumKeyframes());
+  const double baseline = other.mapping_.InitBaseline();  // Before its map is taken.
+  const int offset = mapping_.TakeMerge(other.mapping_, taken_id);
+  tracking_.MergeFrames(other.tracking_.TakeFrames(), offset, baseline, mapping_.map().NumKeyframes());
   return true;
 }
 

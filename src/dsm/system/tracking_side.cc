@@ -57,7 +57,6 @@ bool TrackingSide::ReferenceIsStale() const { return mapping_->Published() != re
 
 FrameReport TrackingSide::Process(int index, int64_t t_ns, const Image<float>& image, double exposure_ms,
                             std::optional<std::chrono::steady_clock::time_point> wait_until) {
-  DSM_CHECK(image.width() == camera_.width && image.height() == camera_.height, "frame size differs from the camera");
   DSM_CHECK(!suspended_ || state_ == TrackingState::kLost || state_ == TrackingState::kConfirming,
             "a suspended map is lost");
   NoteTimestamp(index, t_ns);
@@ -343,7 +342,18 @@ SE3d TrackingSide::WorldFromCam(const SE3d& frame_from_reference) const {
   return (frame_from_reference * reference_->cam_from_world[reference_->keyframe]).Inverse();
 }
 
-void TrackingSide::MergeFrames(const std::vector<FramePose>& merged, int num_keyframes) {
+void TrackingSide::MergeFrames(const std::vector<FramePose>& other, int offset, double other_baseline,
+                               int num_keyframes) {
+  // Relative to their keyframes as before (their offsets scale with the keyframe:
+  // MappingSide::KeyframeScale), the initial keyframes' distance as the other map had it.
+  std::vector<FramePose> merged;
+  for (FramePose f : other) {
+    if (f.reference < 0) continue;
+    f.frame_from_reference = f.AtBaseline(other_baseline);
+    f.init_baseline = 0.0;
+    f.reference += offset;
+    merged.push_back(f);
+  }
   std::vector<FramePose> all;
   std::merge(merged.begin(), merged.end(), frames_.begin(), frames_.end(), std::back_inserter(all),
              [](const FramePose& a, const FramePose& b) { return a.t_ns < b.t_ns; });

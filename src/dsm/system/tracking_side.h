@@ -64,7 +64,7 @@ class TrackingSide {
                TrackingStats* stats, MappingInbox* mapping);
   ~TrackingSide();
 
-  // System::Process, System::Preview, System::SetPoseListener.
+  // System::Process (which checks the image's size), System::Preview, System::SetPoseListener.
   FrameReport Process(int index, int64_t t_ns, const Image<float>& image, double exposure,
                       std::optional<std::chrono::steady_clock::time_point> wait_until);
   void Preview(int index, const Image<float>& image, double exposure_ms) const;
@@ -87,9 +87,10 @@ class TrackingSide {
   const std::vector<FramePose>& frames() const { return frames_; }
   // The records of the frames between the two initial keyframes, tracked by the mapping side.
   void MergeInitTracked(std::vector<FramePose> tracked);
-  // A merged map's frame records (their keyframes' ids and init baselines already made this
-  // map's), into this map's in time order; the keyframes made from here on follow the map's.
-  void MergeFrames(const std::vector<FramePose>& merged, int num_keyframes);
+  // A merged map's tracked frames (`other`, its keyframes' ids here shifted by `offset`, its initial
+  // keyframes `other_baseline` apart), into this map's in time order; the keyframes made from here
+  // on follow the map's `num_keyframes`.
+  void MergeFrames(const std::vector<FramePose>& other, int offset, double other_baseline, int num_keyframes);
   std::vector<FramePose> TakeFrames() { return std::exchange(frames_, {}); }
   int next_keyframe() const { return next_keyframe_; }
 
