@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dsm calibrate: a camera's geometric calibration from views of a checkerboard
+// dsm calibrate: a camera's geometric calibration from views of a checkerboard or a ChArUco board
 // (calibration/calibrate.h), written as the camera.yaml dsm run reads.
 #include <cstdio>
 
@@ -21,12 +21,12 @@ struct CalibrateArgs {
 };
 
 void PrintReport(const CalibrationResult& r) {
-  std::printf("%-7s %-8s %s\n", "frame", "rms px", "");
+  std::printf("%-7s %-8s %-8s\n", "frame", "corners", "rms px");
   for (const CalibrationView& v : r.views) {
     if (v.used)
-      std::printf("%-7d %-8.3f\n", v.frame, v.rms_px);
+      std::printf("%-7d %-8d %-8.3f\n", v.frame, v.corners, v.rms_px);
     else
-      std::printf("%-7d %-8s not used: %s\n", v.frame, "-", v.why_not.c_str());
+      std::printf("%-7d %-8d %-8s not used: %s\n", v.frame, v.corners, "-", v.why_not.c_str());
   }
   const CameraCalibration& c = r.camera;
   std::printf("board found in %zu of %d frames, %d views used, reprojection RMS %.3f px\n", r.views.size(), r.frames,
@@ -49,7 +49,7 @@ nlohmann::json Json(const CalibrationResult& r) {
   const CameraCalibration& c = r.camera;
   nlohmann::json views = nlohmann::json::array();
   for (const CalibrationView& v : r.views) {
-    nlohmann::json j = {{"frame", v.frame}, {"used", v.used}};
+    nlohmann::json j = {{"frame", v.frame}, {"used", v.used}, {"corners", v.corners}};
     if (v.used) j["rms_px"] = v.rms_px;
     else j["why_not"] = v.why_not;
     views.push_back(j);
@@ -72,8 +72,10 @@ nlohmann::json Json(const CalibrationResult& r) {
 Command AddCalibrate(CLI::App& app) {
   auto a = std::make_shared<CalibrateArgs>();
   app.add_option("INPUT", a->input, "A folder of images (or a dataset folder with images/) or a video file")->required();
-  app.add_option("--board", a->board, "The board: checkerboard:COLSxROWS:SQUARE_M, COLSxROWS its inner corners (e.g. "
-                                      "checkerboard:9x6:0.04)")
+  app.add_option("--board", a->board,
+                 "The board: checkerboard:COLSxROWS:SQUARE_M, COLSxROWS its inner corners (e.g. checkerboard:9x6:0.04), "
+                 "or charuco:COLSxROWS:SQUARE_M:MARKER_M:DICT, COLSxROWS its squares as OpenCV's board generator "
+                 "counts them (e.g. charuco:8x6:0.04:0.03:DICT_4X4_50)")
       ->required();
   app.add_option("--model", a->model, "pinhole | radtan (k1 k2 p1 p2, default) | equidistant (k1..k4) | fov (w)");
   app.add_option("--out", a->out, "The camera.yaml to write (default ./camera.yaml)");

@@ -24,7 +24,8 @@ Command AddSynth(CLI::App& app) {
   auto board = std::make_shared<BoardArgs>();
   CLI::Option* scene = app.add_option("--scene", o->scene, synth::SceneNameList(" | ", " | "));
   app.add_option("--board", board->spec,
-                 "Instead of a scene: views of a calibration board, checkerboard:COLSxROWS:SQUARE_M, seen by a camera "
+                 "Instead of a scene: views of a calibration board (checkerboard:COLSxROWS:SQUARE_M or "
+                 "charuco:COLSxROWS:SQUARE_M:MARKER_M:DICT, as dsm calibrate reads them) seen by a camera "
                  "of --model (camera.yaml holds its truth; dsm calibrate finds it back)");
   app.add_option("--model", board->model, "--board: pinhole | radtan (default) | equidistant | fov");
   app.add_option("--views", board->views, "--board: how many views (default 24)");

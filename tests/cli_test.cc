@@ -145,32 +145,42 @@ TEST(Cli, SynthOutputIsADatasetThatInfoReads) {
   EXPECT_TRUE(Contains(info.output, "frames:       5"));
 }
 
-// dsm synth --board renders views of a board whose camera.yaml is the truth; dsm calibrate finds
-// that camera back from the images and writes the camera.yaml dsm run reads, and the JSON
-// contract (rms_px, views_used, intrinsics, distortion). Every model: calibration/calibrate_test.
+// dsm synth --board renders views of a checkerboard and of a ChArUco board whose camera.yaml is the
+// truth; dsm calibrate finds that camera back from the images and writes the camera.yaml dsm run
+// reads, and the JSON contract (rms_px, views_used, intrinsics, distortion). Every model:
+// calibration/calibrate_test.
 TEST(Cli, CalibrateFindsTheCameraSynthRenderedTheBoardWith) {
-  const fs::path dir = ScratchDir("cli_calibrate");
-  const std::string board = " --board checkerboard:9x6:0.04";
-  ASSERT_EQ(RunDsm("synth --model pinhole --views 8 --out " + (dir / "boards").string() + board).code, 0);
-  const Result r = RunDsm("calibrate " + (dir / "boards").string() + board + " --model pinhole --out " +
-                          (dir / "camera.yaml").string() + " --json " + (dir / "calib.json").string());
-  ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_TRUE(Contains(r.output, "reprojection RMS")) << r.output;
-  const CameraYaml truth = ReadCameraYaml(dir / "boards" / "camera.yaml");
-  const CameraYaml found = ReadCameraYaml(dir / "camera.yaml");
-  EXPECT_EQ(found.camera.model, CameraModel::kPinhole);
-  EXPECT_NEAR(found.camera.fx, truth.camera.fx, 0.003 * truth.camera.fx);
-  EXPECT_NEAR(found.camera.cx, truth.camera.cx, 1.0);
-  std::ifstream in(dir / "calib.json");
-  const nlohmann::json j = nlohmann::json::parse(in);
-  EXPECT_LT(j["rms_px"].get<double>(), 0.2);
-  EXPECT_GE(j["views_used"].get<int>(), 6);
-  ASSERT_EQ(j["intrinsics"].size(), 4u);
-  EXPECT_NEAR(j["intrinsics"][1].get<double>(), truth.camera.fy, 0.003 * truth.camera.fy);
-  EXPECT_TRUE(j["distortion"].empty());
+  const std::vector<std::pair<std::string, int>> boards = {{"checkerboard:9x6:0.04", 9 * 6},
+                                                           {"charuco:8x6:0.04:0.03:DICT_4X4_50", 7 * 5}};
+  for (const auto& [spec, corners] : boards) {
+    const fs::path dir = ScratchDir("cli_calibrate_" + spec.substr(0, 7));
+    const std::string board = " --board " + spec;
+    ASSERT_EQ(RunDsm("synth --model pinhole --views 8 --out " + (dir / "boards").string() + board).code, 0);
+    const Result r = RunDsm("calibrate " + (dir / "boards").string() + board + " --model pinhole --out " +
+                            (dir / "camera.yaml").string() + " --json " + (dir / "calib.json").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(Contains(r.output, "reprojection RMS")) << r.output;
+    const CameraYaml truth = ReadCameraYaml(dir / "boards" / "camera.yaml");
+    const CameraYaml found = ReadCameraYaml(dir / "camera.yaml");
+    EXPECT_EQ(found.camera.model, CameraModel::kPinhole);
+    EXPECT_NEAR(found.camera.fx, truth.camera.fx, 0.003 * truth.camera.fx) << spec;
+    EXPECT_NEAR(found.camera.cx, truth.camera.cx, 1.0) << spec;
+    std::ifstream in(dir / "calib.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_LT(j["rms_px"].get<double>(), 0.2) << spec;
+    EXPECT_GE(j["views_used"].get<int>(), 6);
+    ASSERT_EQ(j["intrinsics"].size(), 4u);
+    EXPECT_NEAR(j["intrinsics"][1].get<double>(), truth.camera.fy, 0.003 * truth.camera.fy) << spec;
+    EXPECT_TRUE(j["distortion"].empty());
+    EXPECT_EQ(j["views"][0]["corners"].get<int>(), corners) << spec;  // Each view sees the whole board.
+  }
+  const fs::path dir = ScratchDir("cli_calibrate_checker");
   const Result wrong = RunDsm("calibrate " + (dir / "boards").string() + " --board checkerboard:9x6");
   EXPECT_EQ(wrong.code, 2);
   EXPECT_TRUE(Contains(wrong.output, "checkerboard:COLSxROWS:SQUARE_M")) << wrong.output;
+  const Result no_dict = RunDsm("calibrate " + (dir / "boards").string() + " --board charuco:8x6:0.04:0.03:DICT_4X4");
+  EXPECT_EQ(no_dict.code, 2);
+  EXPECT_TRUE(Contains(no_dict.output, "no ArUco dictionary 'DICT_4X4'")) << no_dict.output;
   const Result neither = RunDsm("synth --out " + (dir / "x").string());
   EXPECT_EQ(neither.code, 2);
   EXPECT_TRUE(Contains(neither.output, "--scene or --board")) << neither.output;

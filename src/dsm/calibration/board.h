@@ -1,8 +1,14 @@
 // SPDX-License-Identifier: MIT
-// A planar calibration target: a checkerboard of `cols` x `rows` inner corners, `square_m` metres
-// apart. The board's frame has its origin at the first inner corner, x along a row of corners
-// (cols of them), y down the columns (rows of them), z into the board: corner (i, j) is at
-// (i square_m, j square_m, 0), listed row by row as OpenCV's detector orders them.
+// A planar calibration target, one of
+//   checkerboard:COLSxROWS:SQUARE_M            COLSxROWS inner corners, SQUARE_M metres apart;
+//   charuco:COLSxROWS:SQUARE_M:MARKER_M:DICT   COLSxROWS squares (OpenCV's ChArUco board, as its
+//                                              board generator draws it: the top-left square black,
+//                                              an ArUco marker of MARKER_M metres from dictionary
+//                                              DICT, e.g. DICT_4X4_50, in each white square).
+// The board's frame: z into the board, x along a row of corners, y down the columns. A
+// checkerboard's origin is its first inner corner; a ChArUco board's is the outer corner of its
+// first square, so its inner corner (i, j) is at ((i + 1) SQUARE_M, (j + 1) SQUARE_M) as in
+// OpenCV's CharucoBoard. Corners are listed (and numbered) row by row.
 #pragma once
 
 #include <string>
@@ -12,19 +18,28 @@
 
 namespace dsm {
 
+enum class BoardKind { kCheckerboard, kCharuco };
+
 struct BoardSpec {
-  int cols = 0, rows = 0;  // Inner corners.
+  BoardKind kind = BoardKind::kCheckerboard;
+  int cols = 0, rows = 0;  // Checkerboard: inner corners; ChArUco: squares.
   double square_m = 0.0;
-  // Parses "checkerboard:COLSxROWS:SQUARE_M" (e.g. "checkerboard:9x6:0.04"); throws InputError
-  // naming `where` otherwise.
+  double marker_m = 0.0;       // ChArUco only.
+  std::string dictionary;      // ChArUco only: OpenCV's name, e.g. "DICT_4X4_50".
+  int dictionary_id = -1;      // Its cv::aruco::PREDEFINED_DICTIONARY_NAME.
+
+  // Parses either form above; throws InputError naming `where` otherwise.
   static BoardSpec Parse(const std::string& text, const std::string& where);
   std::string ToString() const;
-  int NumCorners() const { return cols * rows; }
+  int CornerCols() const { return kind == BoardKind::kCharuco ? cols - 1 : cols; }
+  int CornerRows() const { return kind == BoardKind::kCharuco ? rows - 1 : rows; }
+  int NumCorners() const { return CornerCols() * CornerRows(); }
   std::vector<Eigen::Vector3d> Corners() const;  // In the board's frame, row by row.
-  // Whether the point (x, y) of the board's plane lies on a dark square; the board's squares
-  // extend one square beyond the inner corners on every side, with a white margin of another square.
-  // -1: outside the board (margin or beyond), 0: white, 1: black.
-  int Colour(double x, double y) const;
+  // The printed area, [min, max] in x and y of the board's frame: a checkerboard's squares reach
+  // one square beyond its inner corners, a ChArUco board is its squares.
+  Eigen::Vector4d Extent() const;
+  // The white margin between a ChArUco square's edge and its marker, as a share of the square.
+  double MarkerMargin() const { return kind == BoardKind::kCharuco ? 0.5 * (square_m - marker_m) / square_m : 0.5; }
 };
 
 }  // namespace dsm

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <random>
 
+#include <opencv2/core.hpp>
 #include <tbb/parallel_for.h>
 
+#include "dsm/calibration/charuco.h"
 #include "dsm/io/calibration_io.h"
 #include "dsm/io/dataset.h"
 #include "dsm/io/folder_dataset.h"
@@ -21,6 +23,36 @@ namespace {
 
 constexpr int kSamples = 4;
 constexpr double kBlack = 40.0, kWhite = 210.0, kWall = 120.0;
+constexpr int kPixelsPerSquare = 120;  // Of a ChArUco board's drawing.
+
+// What the board shows at a point (x, y) of its plane: -1 nothing (beyond the board and a white
+// margin of one square around it), 0 white, 1 black.
+class BoardPattern {
+ public:
+  explicit BoardPattern(const BoardSpec& board) : board_(board) {
+    if (board.kind == BoardKind::kCharuco)
+      CharucoBoardOf(board)->draw(cv::Size(board.cols * kPixelsPerSquare, board.rows * kPixelsPerSquare), drawing_);
+  }
+
+  int Colour(double x, double y) const {
+    const double s = board_.square_m;
+    const Eigen::Vector4d e = board_.Extent();
+    if (x < e[0] - s || y < e[2] - s || x >= e[1] + s || y >= e[3] + s) return -1;
+    if (x < e[0] || y < e[2] || x >= e[1] || y >= e[3]) return 0;
+    if (board_.kind == BoardKind::kCharuco) {
+      const int u = std::min(drawing_.cols - 1, static_cast<int>(x / s * kPixelsPerSquare));
+      const int v = std::min(drawing_.rows - 1, static_cast<int>(y / s * kPixelsPerSquare));
+      return drawing_.at<uint8_t>(v, u) < 128 ? 1 : 0;
+    }
+    // Checkerboard squares (i, j) = floor of (x, y) / s, from -1 to cols - 1: (0, 0) is black.
+    const int i = static_cast<int>(std::floor(x / s)), j = static_cast<int>(std::floor(y / s));
+    return ((i + j) & 1) == 0 ? 1 : 0;
+  }
+
+ private:
+  BoardSpec board_;
+  cv::Mat drawing_;  // A ChArUco board as OpenCV draws it, kPixelsPerSquare per square.
+};
 
 Eigen::Matrix3d Rotation(double rx, double ry, double rz) {
   return (Eigen::AngleAxisd(rz, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Eigen::Vector3d::UnitY()) *
@@ -28,14 +60,11 @@ Eigen::Matrix3d Rotation(double rx, double ry, double rz) {
       .toRotationMatrix();
 }
 
-// Whether every inner corner and the board's outer squares project inside the image, 8 px in.
+// Whether every inner corner and the board's outer corners project inside the image, 8 px in.
 bool InView(const CameraCalibration& camera, const BoardSpec& board, const SE3d& cam_from_board) {
-  const double s = board.square_m;
+  const Eigen::Vector4d e = board.Extent();
   std::vector<Eigen::Vector3d> points = board.Corners();
-  points.emplace_back(-s, -s, 0.0);
-  points.emplace_back(board.cols * s, -s, 0.0);
-  points.emplace_back(-s, board.rows * s, 0.0);
-  points.emplace_back(board.cols * s, board.rows * s, 0.0);
+  for (int k = 0; k < 4; ++k) points.emplace_back(e[k & 1], e[2 + (k >> 1)], 0.0);
   for (const Eigen::Vector3d& p : points) {
     const Eigen::Vector3d c = cam_from_board * p;
     if (c.z() < 0.05) return false;
@@ -80,6 +109,7 @@ BoardRenderer::BoardRenderer(const CameraCalibration& camera) : camera_(camera) 
 
 Image<uint8_t> BoardRenderer::Render(const BoardSpec& board, const SE3d& cam_from_board, double noise_sigma,
                                      uint32_t seed) const {
+  const BoardPattern pattern(board);
   const SE3d board_from_cam = cam_from_board.Inverse();
   const Eigen::Matrix3d R = board_from_cam.So3().Matrix();
   const Eigen::Vector3d origin = board_from_cam.Translation();  // The camera centre in the board's frame.
@@ -97,7 +127,7 @@ Image<uint8_t> BoardRenderer::Render(const BoardSpec& board, const SE3d& cam_fro
             const double t = std::abs(dir.z()) > 1e-12 ? -origin.z() / dir.z() : -1.0;
             if (t > 0.0) {
               const Eigen::Vector3d hit = origin + t * dir;
-              const int colour = board.Colour(hit.x(), hit.y());
+              const int colour = pattern.Colour(hit.x(), hit.y());
               if (colour >= 0) value = colour == 1 ? kBlack : kWhite;
             }
           }
@@ -116,8 +146,9 @@ Image<uint8_t> BoardRenderer::Render(const BoardSpec& board, const SE3d& cam_fro
 std::vector<SE3d> BoardViews(const CameraCalibration& camera, const BoardSpec& board, int count, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const double board_w = (board.cols + 1) * board.square_m;
-  const Eigen::Vector3d centre(0.5 * (board.cols - 1) * board.square_m, 0.5 * (board.rows - 1) * board.square_m, 0.0);
+  const Eigen::Vector4d e = board.Extent();
+  const double board_w = e[1] - e[0];
+  const Eigen::Vector3d centre(0.5 * (e[0] + e[1]), 0.5 * (e[2] + e[3]), 0.0);
   std::vector<SE3d> views;
   for (int attempt = 0; static_cast<int>(views.size()) < count; ++attempt) {
     DSM_CHECK(attempt < 1000 * count, "board views: the board does not fit the image");

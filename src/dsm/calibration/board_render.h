@@ -2,8 +2,9 @@
 // A calibration board rendered as a camera of any model sees it (camera.h), so that tests of the
 // calibration know the answer: each pixel averages 4 x 4 rays spread over its area
 // (CameraCalibration::Unproject, once per camera), each intersected with the board's plane: black
-// 40 or white 210 where they hit the board (BoardSpec::Colour), a grey 120 wall beyond it; then
-// the synthetic world's image formation (synth::FormImage: Gaussian noise, 8-bit quantisation).
+// 40 or white 210 where they hit the board (a ChArUco board as OpenCV draws it) or its white margin
+// of a square, a grey 120 wall beyond; then the synthetic world's image formation
+// (synth::FormImage: Gaussian noise, 8-bit quantisation).
 #pragma once
 
 #include <cstdint>

@@ -11,6 +11,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "dsm/calibration/detect.h"
 #include "dsm/calibration/refine.h"
 #include "dsm/io/image_store.h"
 #include "dsm/io/mat_gray.h"
@@ -26,14 +27,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kMaxEdgeWidthPx = 3.0;  // Sharpness: the detector's median edge width.
-
-struct Detection {
-  int frame = -1;
-  std::vector<cv::Point2f> corners;
-  double edge_width = 0.0;
-  std::array<double, 5> place{};  // Where and how the board lies in the image (PickViews).
-};
+constexpr double kMaxEdgeWidthPx = 3.0;  // Sharpness: the median width of the board's edges.
 
 // The frames of `input`: a folder of images (its images/ when it has one) or a video file.
 std::shared_ptr<ImageStore> FramesOf(const fs::path& input) {
@@ -42,46 +36,8 @@ std::shared_ptr<ImageStore> FramesOf(const fs::path& input) {
   return OpenVideoFrames(input);
 }
 
-// Centre (x, y over the image size), size (square root of the corners' bounding area over the
-// image's) and tilt (the ratios of the first to the last row's and column's length, log).
-std::array<double, 5> Place(const std::vector<cv::Point2f>& c, const BoardSpec& b, cv::Size size) {
-  cv::Point2f mean(0, 0);
-  for (const cv::Point2f& p : c) mean += p;
-  mean *= 1.0f / c.size();
-  const cv::Rect box = cv::boundingRect(c);
-  const auto len = [&](int a, int z) { return std::hypot(c[z].x - c[a].x, c[z].y - c[a].y); };
-  const int last_row = (b.rows - 1) * b.cols;
-  const double top = len(0, b.cols - 1), bottom = len(last_row, last_row + b.cols - 1);
-  const double left = len(0, last_row), right = len(b.cols - 1, last_row + b.cols - 1);
-  return {mean.x / size.width, mean.y / size.height, std::sqrt(box.area() / double(size.area())),
-          std::log(top / bottom), std::log(left / right)};
-}
-
-// The board in one frame: its corners, refined where the image's gradients are orthogonal to the
-// rays from the corner (unbiased by the board's tilt, as the corner's edges stay straight lines
-// through it), in a window within a third of the nearest corners' spacing (5x5 to 17x17 px).
-std::optional<Detection> Detect(const cv::Mat& grey, const BoardSpec& board) {
-  const cv::Size pattern(board.cols, board.rows);
-  Detection d;
-  if (!cv::findChessboardCornersSB(grey, pattern, d.corners, cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY))
-    return std::nullopt;
-  double spacing = INFINITY;
-  for (int r = 0; r < board.rows; ++r)
-    for (int c = 0; c + 1 < board.cols; ++c)
-      spacing = std::min<double>(spacing, cv::norm(d.corners[r * board.cols + c + 1] - d.corners[r * board.cols + c]));
-  for (int r = 0; r + 1 < board.rows; ++r)
-    for (int c = 0; c < board.cols; ++c)
-      spacing = std::min<double>(spacing, cv::norm(d.corners[(r + 1) * board.cols + c] - d.corners[r * board.cols + c]));
-  const int half = std::clamp(static_cast<int>(spacing / 3.0), 2, 8);
-  cv::cornerSubPix(grey, d.corners, cv::Size(half, half), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-4));
-  d.edge_width = cv::estimateChessboardSharpness(grey, pattern, d.corners)[0];
-  d.place = Place(d.corners, board, grey.size());
-  return d;
-}
-
 // Farthest-point sampling of the views' places, from the sharpest.
-std::vector<int> PickViews(const std::vector<Detection>& found, int max_views) {
+std::vector<int> PickViews(const std::vector<BoardDetection>& found, int max_views) {
   std::vector<int> picked;
   std::vector<double> distance(found.size(), INFINITY);
   int next = static_cast<int>(std::min_element(found.begin(), found.end(), [](const auto& a, const auto& b) {
@@ -111,9 +67,11 @@ struct Solution {
 
 // OpenCV's calibration, the initial solution: calibrateCamera (pinhole, radtan: k3 held at 0) or
 // fisheye::calibrate (equidistant).
-Solution OpenCvSolution(const std::vector<Detection>& views, const BoardSpec& board, CameraModel model, cv::Size size) {
-  std::vector<cv::Point3f> object;
-  for (const Eigen::Vector3d& p : board.Corners()) object.emplace_back(p.x(), p.y(), p.z());
+Solution OpenCvSolution(const std::vector<BoardDetection>& views, const BoardSpec& board, CameraModel model, cv::Size size) {
+  const std::vector<Eigen::Vector3d> all = board.Corners();
+  std::vector<std::vector<cv::Point3f>> object(views.size());
+  for (size_t v = 0; v < views.size(); ++v)
+    for (int id : views[v].ids) object[v].emplace_back(all[id].x(), all[id].y(), all[id].z());
   Solution s;
   s.camera.model = model;
   s.camera.width = size.width;
@@ -125,19 +83,18 @@ Solution OpenCvSolution(const std::vector<Detection>& views, const BoardSpec& bo
       std::vector<std::vector<cv::Point3d>> obj(views.size());
       std::vector<std::vector<cv::Point2d>> img(views.size());
       for (size_t v = 0; v < views.size(); ++v) {
-        for (const cv::Point3f& p : object) obj[v].emplace_back(p);
+        for (const cv::Point3f& p : object[v]) obj[v].emplace_back(p);
         for (const cv::Point2f& p : views[v].corners) img[v].emplace_back(p);
       }
       cv::fisheye::calibrate(obj, img, size, K, D, rvecs, tvecs,
                              cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC | cv::fisheye::CALIB_FIX_SKEW,
                              cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12));
     } else {
-      std::vector<std::vector<cv::Point3f>> obj(views.size(), object);
-      std::vector<std::vector<cv::Point2f>> img;
-      for (const Detection& d : views) img.push_back(d.corners);
+            std::vector<std::vector<cv::Point2f>> img;
+      for (const BoardDetection& d : views) img.push_back(d.corners);
       int flags = cv::CALIB_FIX_K3;
       if (model == CameraModel::kPinhole) flags |= cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_ZERO_TANGENT_DIST;
-      cv::calibrateCamera(obj, img, size, K, D, rvecs, tvecs, flags,
+      cv::calibrateCamera(object, img, size, K, D, rvecs, tvecs, flags,
                           cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12));
     }
   } catch (const cv::Exception& e) {
@@ -186,12 +143,13 @@ CameraCalibration FovFrom(const CameraCalibration& equidistant) {
 }
 
 // OpenCV's solution (FOV: from the equidistant one), refined with dsm's own camera model.
-Solution Solve(const std::vector<Detection>& views, const BoardSpec& board, CameraModel model, cv::Size size) {
+Solution Solve(const std::vector<BoardDetection>& views, const BoardSpec& board, CameraModel model, cv::Size size) {
   Solution s = OpenCvSolution(views, board, model == CameraModel::kFov ? CameraModel::kEquidistant : model, size);
   if (model == CameraModel::kFov) s.camera = FovFrom(s.camera);
+  const std::vector<Eigen::Vector3d> all = board.Corners();
   std::vector<CornerView> corners(views.size());
   for (size_t v = 0; v < views.size(); ++v) {
-    corners[v].board = board.Corners();
+    for (int id : views[v].ids) corners[v].board.push_back(all[id]);
     for (const cv::Point2f& p : views[v].corners) corners[v].image.emplace_back(p.x, p.y);
   }
   const RefinedCalibration refined = RefineCalibration(s.camera, s.cam_from_board, corners);
@@ -202,16 +160,16 @@ Solution Solve(const std::vector<Detection>& views, const BoardSpec& board, Came
 }
 
 // Reprojection RMS of each view's corners with the model as dsm projects it.
-std::vector<double> ViewRms(const Solution& s, const std::vector<Detection>& views, const BoardSpec& board) {
+std::vector<double> ViewRms(const Solution& s, const std::vector<BoardDetection>& views, const BoardSpec& board) {
   const std::vector<Eigen::Vector3d> corners = board.Corners();
   std::vector<double> rms;
   for (size_t v = 0; v < views.size(); ++v) {
     double sum = 0.0;
-    for (size_t i = 0; i < corners.size(); ++i) {
-      const Eigen::Vector2d px = s.camera.Project(s.cam_from_board[v] * corners[i]);
+    for (size_t i = 0; i < views[v].ids.size(); ++i) {
+      const Eigen::Vector2d px = s.camera.Project(s.cam_from_board[v] * corners[views[v].ids[i]]);
       sum += (px - Eigen::Vector2d(views[v].corners[i].x, views[v].corners[i].y)).squaredNorm();
     }
-    rms.push_back(std::sqrt(sum / corners.size()));
+    rms.push_back(std::sqrt(sum / views[v].ids.size()));
   }
   return rms;
 }
@@ -220,7 +178,7 @@ std::vector<double> ViewRms(const Solution& s, const std::vector<Detection>& vie
 
 CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& options) {
   const BoardSpec& board = options.board;
-  std::vector<Detection> found;
+  std::vector<BoardDetection> found;
   CalibrationResult out;
   const std::shared_ptr<ImageStore> frames = FramesOf(input);
   const std::vector<std::string> names = frames->List();
@@ -235,7 +193,7 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
       throw InputError(input.string() + ": frame " + std::to_string(i) + " is " + std::to_string(grey.cols) + "x" +
                        std::to_string(grey.rows) + ", the first was " + std::to_string(size->width) + "x" +
                        std::to_string(size->height));
-    std::optional<Detection> d = Detect(grey, board);
+    std::optional<BoardDetection> d = DetectBoard(grey, board);
     if (!d) continue;
     d->frame = static_cast<int>(i);
     found.push_back(std::move(*d));
@@ -243,10 +201,11 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
   if (found.empty())
     throw InputError(input.string() + ": the board " + board.ToString() + " is in none of the " +
                      std::to_string(out.frames) + " frames (its inner corners: COLSxROWS)");
-  std::vector<Detection> sharp;
-  for (const Detection& d : found) {
+  std::vector<BoardDetection> sharp;
+  for (const BoardDetection& d : found) {
     CalibrationView v;
     v.frame = d.frame;
+    v.corners = static_cast<int>(d.ids.size());
     if (d.edge_width > kMaxEdgeWidthPx) {
       v.why_not = "blurred";
     } else {
@@ -254,7 +213,7 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
     }
     out.views.push_back(v);
   }
-  std::vector<Detection> used;
+  std::vector<BoardDetection> used;
   for (int k : PickViews(sharp, options.max_views)) used.push_back(sharp[k]);
   if (static_cast<int>(used.size()) < kMinViews)
     throw InputError(input.string() + ": the board is sharp in " + std::to_string(used.size()) + " frames; " +
@@ -262,7 +221,7 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
   Solution s = Solve(used, board, options.model, *size);
   std::vector<double> rms = ViewRms(s, used, board);
   const double limit = std::max(0.5, 3.0 * Median(rms));
-  std::vector<Detection> kept;
+  std::vector<BoardDetection> kept;
   std::vector<int> dropped;
   for (size_t v = 0; v < used.size(); ++v) (rms[v] <= limit ? kept.push_back(used[v]) : dropped.push_back(used[v].frame));
   if (!dropped.empty() && static_cast<int>(kept.size()) >= kMinViews) {
@@ -272,41 +231,43 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
   } else {
     dropped.clear();
   }
-  // The verdicts per view; all views have the board's corners, so the overall RMS is their RMS.
+  // The verdicts per view, and the RMS over every corner used.
   double sum = 0.0;
+  int corners = 0;
   for (CalibrationView& v : out.views) {
     if (!v.why_not.empty()) continue;
-    const auto it = std::find_if(used.begin(), used.end(), [&](const Detection& d) { return d.frame == v.frame; });
+    const auto it = std::find_if(used.begin(), used.end(), [&](const BoardDetection& d) { return d.frame == v.frame; });
     if (it == used.end()) {
       v.why_not = std::count(dropped.begin(), dropped.end(), v.frame) ? "outlier" : "like another view";
       continue;
     }
     v.used = true;
     v.rms_px = rms[it - used.begin()];
-    sum += v.rms_px * v.rms_px;
+    sum += v.rms_px * v.rms_px * it->ids.size();
+    corners += static_cast<int>(it->ids.size());
   }
   out.camera = s.camera;
   out.views_used = static_cast<int>(used.size());
-  out.rms_px = std::sqrt(sum / used.size());
+  out.rms_px = std::sqrt(sum / corners);
   // Coverage: the 3x3 cells no corner fell in.
   static const char* kCells[3][3] = {{"top-left", "top", "top-right"},
                                      {"left", "centre", "right"},
                                      {"bottom-left", "bottom", "bottom-right"}};
   bool covered[3][3] = {};
-  for (const Detection& d : used)
+  for (const BoardDetection& d : used)
     for (const cv::Point2f& p : d.corners)
       covered[std::clamp(int(3 * p.y / size->height), 0, 2)][std::clamp(int(3 * p.x / size->width), 0, 2)] = true;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
       if (!covered[r][c]) out.uncovered.push_back(kCells[r][c]);
   if (!s.deviations.empty()) {
-    const char* names[4] = {"fx", "fy", "cx", "cy"};
+    const char* parameters[4] = {"fx", "fy", "cx", "cy"};
     const double values[4] = {s.camera.fx, s.camera.fy, s.camera.cx, s.camera.cy};
     for (int i = 0; i < 4; ++i) {
       const bool weak = i < 2 ? s.deviations[i] > 0.005 * values[i] : s.deviations[i] > 5.0;
       if (!weak) continue;
       char line[96];
-      std::snprintf(line, sizeof(line), "%s %.2f +- %.2f px", names[i], values[i], s.deviations[i]);
+      std::snprintf(line, sizeof(line), "%s %.2f +- %.2f px", parameters[i], values[i], s.deviations[i]);
       out.weak.push_back(line);
     }
     if (s.deviations[0] > 0.05 * s.camera.fx)

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-// Geometric calibration of a camera from views of a checkerboard (board.h), for every camera model
-// dsm reads (geometry/camera.h): pinhole, radtan (k1 k2 p1 p2), equidistant (k1..k4) and fov (w).
+// Geometric calibration of a camera from views of a checkerboard or a ChArUco board (board.h), for
+// every camera model dsm reads (geometry/camera.h): pinhole, radtan (k1 k2 p1 p2), equidistant
+// (k1..k4) and fov (w).
 //
 //   1. Frames: every image of a folder (its images/ when there is one) or frame of a video.
-//   2. Detection: OpenCV's sector-based detector (findChessboardCornersSB), refined by cornerSubPix
-//      in a window a third of the corners' spacing (unbiased by the board's tilt).
-//   3. Views: the sharp ones (the detector's median edge width under 3 px), at most `max_views`,
+//   2. Detection (detect.h): a checkerboard whole, a ChArUco board whole or in part.
+//   3. Views: the sharp ones (the median width of the board's edges under 3 px), at most `max_views`,
 //      picked greedily to differ most in where the board lies in the image, how large it is and
 //      how it is tilted (not 300 copies of one pose).
 //   4. Calibration: OpenCV's calibrateCamera (fisheye::calibrate for equidistant; fov starts from
@@ -36,6 +36,7 @@ struct CalibrationOptions {
 
 struct CalibrationView {
   int frame = -1;        // Index among the input's frames.
+  int corners = 0;       // Of the board's inner corners, found.
   double rms_px = 0.0;   // Reprojection RMS of its corners at the solution (0: not used).
   bool used = false;     // Calibrated with (else: not picked, or dropped as an outlier).
   std::string why_not;   // When not used.
