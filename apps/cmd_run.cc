@@ -28,6 +28,8 @@ struct RunArgs {
   bool quiet = false, no_map = false, no_report = false, global_ba = false, no_loop_closure = false, truth_ba = false, sequential = false,
        realtime = false, localize = false;
   std::string save_map, load_map;
+  std::string camera, record;
+  double duration = 0.0, stall_timeout = 5.0;
   GtArgs gt;
   VideoArgs video;
 };
@@ -55,7 +57,9 @@ RunOptions OptionsFrom(const RunArgs& a) {
   if (!a.robust.empty()) o.pba.robust.kind = o.tracker.robust.kind = ParseRobustKind(a.robust, "--robust");
   options.system.Validate();
   if (a.print_config) return options;
-  if (a.dataset.empty()) throw InputError("run: DATASET is required (a dataset folder, or a video file with --calib)");
+  if (a.dataset.empty() && a.camera.empty())
+    throw InputError("run: DATASET is required (a dataset folder, or a video file with --calib), or --camera");
+  if (!a.dataset.empty() && !a.camera.empty()) throw InputError("run: give DATASET or --camera, one of them");
   options.global_ba = a.global_ba;
   options.truth_ba = a.truth_ba;
   options.start = a.start;
@@ -78,17 +82,48 @@ RunOptions OptionsFrom(const RunArgs& a) {
   options.debug_dir = a.debug;
   options.workers = a.workers;
   if (a.sequential && a.realtime) throw InputError("--sequential and --realtime exclude each other");
-  options.pace = a.sequential ? Pace::kSequential : a.realtime ? Pace::kRealtime : Pace::kFree;
+  if (!a.camera.empty() && a.sequential) throw InputError("--camera runs in the realtime pace: --sequential is for recordings");
+  options.pace = a.sequential ? Pace::kSequential : a.realtime || !a.camera.empty() ? Pace::kRealtime : Pace::kFree;
   // The per-keyframe diagnostics read the map after each keyframe: only sequential allows that.
   if (!options.debug_dir.empty() && !a.realtime) options.pace = Pace::kSequential;
   return options;
+}
+
+// The shell's convention for a process ended by a signal: 128 + its number (SIGINT 130, SIGTERM 143).
+int ExitCode(const RunSummary& summary) {
+  std::printf("%s%s\n", summary.line.c_str(), summary.interrupt_signal ? " (interrupted)" : "");
+  return summary.interrupt_signal ? 128 + summary.interrupt_signal : 0;
+}
+
+int RunLiveCamera(const RunArgs& a, const RunOptions& options) {
+  if (a.video.calib.empty())
+    throw InputError("--camera needs the camera's calibration (--calib camera.yaml; dsm calibrate writes one)");
+  if (!a.video.ground_truth.empty() || a.video.time_offset_s != 0.0)
+    throw InputError("--groundtruth and --time-offset are for video files, not for --camera");
+  if (!(a.duration >= 0.0)) throw InputError("--duration must be >= 0 seconds");
+  Dataset camera;
+  const CameraYaml yaml = ReadCameraYaml(a.video.calib);
+  camera.camera = yaml.camera;
+  camera.calibration_file = a.video.calib;
+  camera.line_delay_us = a.line_delay_us.value_or(yaml.line_delay_us);
+  if (!ReadoutFits(camera.line_delay_us, camera.camera.height, 1e6 / yaml.rate_hz))
+    throw InputError("--line-delay-us: the readout of " + std::to_string(camera.camera.height) +
+                     " rows does not fit the frame interval of " + a.video.calib + " (rate_hz)");
+  LiveCamera live({a.camera, a.stall_timeout, a.record, a.duration}, std::move(camera));
+  std::printf("camera: %s opened%s\n", a.camera.c_str(), a.record.empty() ? "" : (", recording into " + a.record).c_str());
+  std::fflush(stdout);
+  CatchInterrupts();
+  const RunSummary summary = RunCamera(live, options, a.out);
+  std::printf("%s\n", summary.stats["live"]["message"].get<std::string>().c_str());
+  return ExitCode(summary);
 }
 
 }  // namespace
 
 Command AddRun(CLI::App& app) {
   auto a = std::make_shared<RunArgs>();
-  app.add_option("DATASET", a->dataset, "Dataset folder, or a video file (mp4, avi, mkv, ...) with --calib");
+  app.add_option("DATASET", a->dataset,
+                 "Dataset folder, or a video file (mp4, avi, mkv, ...) with --calib (or --camera for a live camera)");
   app.add_option("--out", a->out, "Output folder (default ./dsm_out)");
   app.add_option("--mode", a->mode,
                  "dsm (persistent map: temporal + covisible window, default) | sw (sliding window of N_t + N_c "
@@ -153,6 +188,14 @@ Command AddRun(CLI::App& app) {
                  "Covisible keyframes N_c (window.covisible_keyframes, 0..20; in --mode sw they add to the temporal window)");
   app.add_option("--pba-levels", a->pba_levels, "Pyramid levels of the bundle adjustment (pba.levels, 1..5)");
   app.add_option("--robust", a->robust, "t | huber | huber-mad (robust.function)");
+  app.add_option("--camera", a->camera,
+                 "A live camera instead of DATASET: a V4L2 device (/dev/video0 or its index 0) or a stream URL (rtsp://, "
+                 "http://, tcp://, udp://, ... through FFmpeg), with --calib; realtime pace, frames stamped at capture");
+  app.add_option("--record", a->record,
+                 "--camera: write every frame captured into this folder as a dataset dsm run replays");
+  app.add_option("--duration", a->duration, "--camera: stop after this many seconds (default: at the stream's end)");
+  app.add_option("--stall-timeout", a->stall_timeout,
+                 "--camera: a stream that sends no frame for this many seconds has ended (default 5)");
   AddGtOptions(app, &a->gt);
   AddVideoOptions(app, &a->video);
   return [a] {
@@ -161,6 +204,7 @@ Command AddRun(CLI::App& app) {
       std::fputs(OptionsYaml(options.system).c_str(), stdout);
       return 0;
     }
+    if (!a->camera.empty()) return RunLiveCamera(*a, options);
     Dataset dataset = OpenInput(a->dataset, a->gt, a->video);
     if (a->line_delay_us) {
       const int rows = dataset.camera.height;
@@ -172,10 +216,7 @@ Command AddRun(CLI::App& app) {
       dataset.line_delay_us = *a->line_delay_us;
     }
     CatchInterrupts();
-    const RunSummary summary = RunDataset(dataset, options, a->out);
-    std::printf("%s%s\n", summary.line.c_str(), summary.interrupt_signal ? " (interrupted)" : "");
-    // The shell's convention for a process ended by a signal: 128 + its number (SIGINT 130, SIGTERM 143).
-    return summary.interrupt_signal ? 128 + summary.interrupt_signal : 0;
+    return ExitCode(RunDataset(dataset, options, a->out));
   };
 }
 

@@ -8,6 +8,8 @@
 #include <iterator>
 #include <sstream>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -549,6 +551,30 @@ TEST(Cli, DamageWritesAEurocCopyWithTheDefects) {
   const Result info = RunDsm("info " + (dir / "d").string());
   EXPECT_EQ(info.code, 0) << info.output;
   EXPECT_TRUE(Contains(info.output, "frames:       330")) << info.output;
+}
+
+// A live camera that cannot be read is a message naming it, exit 2 (streams: tests/camera_test).
+TEST(Cli, ACameraThatDoesNotOpenIsAMessage) {
+  const fs::path dir = ScratchDir("cli_camera");
+  ASSERT_EQ(RunDsm("synth --scene loop --frames 2 --width 320 --height 240 --out " + (dir / "seq").string()).code, 0);
+  const std::string calib = " --calib " + (dir / "seq" / "camera.yaml").string() + " --out " + (dir / "out").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--camera /dev/video99" + calib, "/dev/video99: the camera does not open"},
+      {"--camera 98" + calib, "no V4L2 device /dev/video98"},
+      {"--camera tcp://127.0.0.1:1" + calib, "tcp://127.0.0.1:1: the stream does not open"},
+      // Nobody connects to a listening stream: the stall timeout bounds the wait.
+      {"--camera \"tcp://127.0.0.1:" + std::to_string(21000 + getpid() % 20000) + "?listen=1\" --stall-timeout 1" + calib,
+       "does not open within 1 s"},
+      {"--camera /dev/video0 --out " + (dir / "out").string(), "--camera needs the camera's calibration (--calib"},
+      {(dir / "seq").string() + " --camera /dev/video0" + calib, "or --camera, one of them"},
+      {"--camera /dev/video0 --sequential" + calib, "--camera runs in the realtime pace"},
+      {"--camera /dev/video0 --stall-timeout 0" + calib, "--stall-timeout must be within 0 and 3600 seconds"},
+  };
+  for (const auto& [args, message] : cases) {
+    const Result r = RunDsm("run " + args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.output;
+    EXPECT_TRUE(Contains(r.output, message)) << args << "\n" << r.output;
+  }
 }
 
 // SIGTERM (and SIGINT) finish the current frame and write what the run has: exit 128 + signal.

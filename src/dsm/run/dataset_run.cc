@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <thread>
 
 #include <sys/resource.h>
@@ -23,9 +24,13 @@ namespace {
 
 // The end of the frames the run takes, once the options are checked against the dataset and
 // the output folder exists.
-int CheckedEnd(const Dataset& dataset, const RunOptions& options, const fs::path& out_dir) {
+int CheckedEnd(const Dataset& dataset, const RunOptions& options, const fs::path& out_dir, bool live) {
   options.system.Validate();
-  const int n = static_cast<int>(dataset.size());
+  if (live) {
+    if (options.pace != Pace::kRealtime) throw InputError("a live camera runs in the realtime pace");
+    if (options.start != 0 || options.end >= 0) throw InputError("--start and --end select frames of a recording, not of a live camera");
+  }
+  const int n = live ? std::numeric_limits<int>::max() : static_cast<int>(dataset.size());
   const int end = options.end < 0 ? n : std::min(options.end, n);
   if (options.start < 0 || options.start >= end) {
     throw InputError("--start/--end select no frames (the dataset has " + std::to_string(n) + ")");
@@ -71,11 +76,12 @@ double PeakRssMb() {
 
 }  // namespace
 
-DatasetRun::DatasetRun(const Dataset& dataset, const RunOptions& options, fs::path out_dir)
+DatasetRun::DatasetRun(const Dataset& dataset, const RunOptions& options, fs::path out_dir, LiveCamera* camera)
     : dataset_(dataset),
       options_(options),
+      camera_(camera),
       out_dir_(std::move(out_dir)),
-      end_(CheckedEnd(dataset, options, out_dir_)),
+      end_(CheckedEnd(dataset, options, out_dir_, camera != nullptr)),
       workers_(Workers(options.workers)),
       setup_(PacedSetup(options, dataset)),
       undistorter_(FrameUndistorter(dataset, options.system)),
@@ -125,10 +131,10 @@ DatasetRun::DatasetRun(const Dataset& dataset, const RunOptions& options, fs::pa
   // once released (a live camera cannot be read ahead).
   if (options.pace != Pace::kRealtime) {
     reader_.emplace(dataset, undistorter_, options.start, end_, 2);
-  } else {
+  } else if (!camera) {
     prefetch_.emplace(dataset, end_);
   }
-  shown_.total = end_ - options.start;
+  shown_.total = camera ? 0 : end_ - options.start;
   fed_.last_frame = options.start - 1;
 }
 
@@ -166,6 +172,11 @@ void DatasetRun::EndMap(int id, System& system, const Atlas::Spans& spans, int m
 
 DatasetRun::TimePoint DatasetRun::ReleaseTime(int i) const {
   return process0_ + std::chrono::nanoseconds(dataset_.frames[i].t_ns - dataset_.frames[options_.start].t_ns);
+}
+
+std::optional<DatasetRun::TimePoint> DatasetRun::NextRelease(int k) const {
+  if (camera_) return camera_->Expected(k);
+  return k < end_ ? std::optional(ReleaseTime(k)) : std::nullopt;
 }
 
 void DatasetRun::Settle(const Atlas::Settled& s) {
@@ -246,8 +257,7 @@ void DatasetRun::Drain(std::optional<TimePoint> deadline) {
 }
 
 void DatasetRun::TakeReleased(int i, const Image<float>& image, TimePoint released, TimePoint taken) {
-  const auto release = [&](int k) { return k < end_ ? std::optional(ReleaseTime(k)) : std::nullopt; };
-  const TimePoint deadline = realtime_wait_.Deadline(released, release(i + 1), release(i + 2));
+  const TimePoint deadline = realtime_wait_.Deadline(released, NextRelease(i + 1), NextRelease(i + 2));
   if (backlog_.frames.empty() && (!use_backlog_ || maps_->current().WaitSettled(Clock::now()))) {
     Take(i, image, released, taken, deadline, std::nullopt);
     return;
@@ -258,10 +268,33 @@ void DatasetRun::TakeReleased(int i, const Image<float>& image, TimePoint releas
   ++backlog_.deferred;
   backlog_.max_size = std::max(backlog_.max_size, backlog_.frames.size());
   // No later than the next frame's release either: its first pose (Preview) comes first.
-  Drain(i + 1 < end_ ? std::min(deadline, ReleaseTime(i + 1)) : deadline);
+  const std::optional<TimePoint> next = NextRelease(i + 1);
+  Drain(next ? std::min(deadline, *next) : deadline);
+}
+
+void DatasetRun::FeedLive() {
+  const auto interrupted = [] { return InterruptSignal() != 0; };
+  while (true) {
+    LiveCamera::Frame frame = camera_->Take(interrupted);
+    fed_.interrupt_signal = InterruptSignal();
+    if (frame.status != LiveCamera::Status::kFrame) {
+      live_end_ = std::move(frame);
+      return;
+    }
+    if (fed_.interrupt_signal != 0) return;
+    const int i = frame.index;
+    fed_.dropped += i - (fed_.last_frame + 1);  // Captured while tracking was busy.
+    fed_.last_frame = i;
+    any_frame_used_ = true;
+    TakeReleased(i, PrepareFrame(dataset_, undistorter_, frame.image), frame.captured, Clock::now());
+  }
 }
 
 void DatasetRun::FeedFrames() {
+  if (camera_) {
+    FeedLive();
+    return;
+  }
   for (int i = options_.start; i < end_; ++i) {
     fed_.interrupt_signal = InterruptSignal();
     if (fed_.interrupt_signal != 0) break;
@@ -329,6 +362,7 @@ std::string DatasetRun::SaveMapFile(RunSummary* summary) {
 }
 
 RunSummary DatasetRun::Finish() {
+  if (camera_) camera_->Stop();
   Drain(std::nullopt);
   for (const Atlas::Settled& st : maps_->Flush()) Settle(st);
   progress_.Finish();
@@ -341,6 +375,13 @@ RunSummary DatasetRun::Finish() {
   RunSummary summary =
       SummariseRun(dataset_, options_, undistorter_.output(), fed_, backlog_, &maps, map_loaded_, out_dir_);
   summary.stats["peak_rss_mb"] = PeakRssMb();
+  if (camera_) {
+    static const char* kEnds[] = {"frame", "ended", "stalled", "frame size"};
+    summary.stats["live"] = {{"source", dataset_.root.string()},
+                             {"frames_captured", camera_->captured()},
+                             {"ended", fed_.interrupt_signal != 0 ? "interrupted" : kEnds[static_cast<int>(live_end_.status)]},
+                             {"message", live_end_.message}};
+  }
   // A failure to write the map file is reported after the other outputs are written.
   const std::string save_error = options_.save_map.empty() ? "" : SaveMapFile(&summary);
   summary.stats["wall_s"] = std::chrono::duration<double>(Clock::now() - wall0_).count();

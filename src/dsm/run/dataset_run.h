@@ -25,6 +25,7 @@
 
 #include "dsm/geometry/undistorter.h"
 #include "dsm/io/dataset.h"
+#include "dsm/io/live_camera.h"
 #include "dsm/mapfile/map_file.h"
 #include "dsm/run/debug_writer.h"
 #include "dsm/run/frame_backlog.h"
@@ -43,12 +44,18 @@ class DatasetRun {
  public:
   // Checks the options against the dataset (InputError), creates the output folder, opens the
   // live view and takes up the maps of RunOptions::load_map. The run's clock starts here.
-  DatasetRun(const Dataset& dataset, const RunOptions& options, std::filesystem::path out_dir);
+  // With a live camera (`dataset` its dataset()), the frames are the camera's as it captures
+  // them, in the realtime pace: the recorded frames' release times are their capture times.
+  DatasetRun(const Dataset& dataset, const RunOptions& options, std::filesystem::path out_dir,
+             LiveCamera* camera = nullptr);
   DatasetRun(const DatasetRun&) = delete;  // Its systems' pose listeners point at it.
   DatasetRun& operator=(const DatasetRun&) = delete;
 
-  // Feeds frames start .. end - 1 in the pace's way; stops early after SIGINT / SIGTERM.
+  // Feeds frames start .. end - 1 in the pace's way (a live camera's until its stream ends);
+  // stops early after SIGINT / SIGTERM.
   void FeedFrames();
+  // A live camera's: how its stream ended (LiveCamera::Take's last answer).
+  const LiveCamera::Frame& live_end() const { return live_end_; }
   // Ends the maps, writes every output and returns the summary; InputError after the other
   // outputs are written when the map file cannot be.
   RunSummary Finish();
@@ -62,6 +69,11 @@ class DatasetRun {
   void EndMap(int id, System& system, const Atlas::Spans& spans, int merged_into);
   // Realtime: when frame i is released, as a camera would deliver it.
   TimePoint ReleaseTime(int i) const;
+  // Realtime: when frame k after the current one is released (a live camera's: expected); none
+  // past the end.
+  std::optional<TimePoint> NextRelease(int k) const;
+  // A live camera's frames, each taken when captured (the camera keeps the newest).
+  void FeedLive();
   // Frame i handed to the maps, its latencies and events; `first_pose` told before (Preview).
   void Take(int i, const Image<float>& image, TimePoint released, std::optional<TimePoint> taken,
             std::optional<TimePoint> wait_until, std::optional<TimePoint> first_pose);
@@ -77,6 +89,8 @@ class DatasetRun {
 
   const Dataset& dataset_;
   const RunOptions& options_;
+  LiveCamera* const camera_;  // Null: the dataset's recorded frames.
+  LiveCamera::Frame live_end_;
   const std::filesystem::path out_dir_;
   const TimePoint wall0_ = Clock::now();
   const int end_;  // One past the last frame.

@@ -15,11 +15,14 @@ Undistorter FrameUndistorter(const Dataset& dataset, const SystemOptions& option
   return Undistorter(dataset.camera, {dataset.undistort_mode, 1 << (options.pyramid_levels - 1)});
 }
 
+Image<float> PrepareFrame(const Dataset& dataset, const Undistorter& undistorter, const Image<uint8_t>& raw) {
+  return dataset.photometric ? undistorter.Apply(dataset.photometric->ToIrradiance(raw)) : undistorter.Apply(raw);
+}
+
 FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i) {
   FrameOrError out;
   try {
-    const Image<uint8_t> raw = dataset.LoadImage(i);
-    out.image = dataset.photometric ? undistorter.Apply(dataset.photometric->ToIrradiance(raw)) : undistorter.Apply(raw);
+    out.image = PrepareFrame(dataset, undistorter, dataset.LoadImage(i));
   } catch (const ImageSizeError& e) {
     out.error = e.what();
     out.size_mismatch = true;

@@ -32,6 +32,8 @@ struct FrameOrError {
   bool size_mismatch = false;  // The error is an ImageSizeError (the frame decoded, at another size).
 };
 FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i);
+// A frame of `dataset`'s camera ready for System::Process: photometrically corrected, undistorted.
+Image<float> PrepareFrame(const Dataset& dataset, const Undistorter& undistorter, const Image<uint8_t>& raw);
 // The undistorter of `dataset`'s frames for a System with `options`: the dataset's mode, an output
 // size that divides by 2^(pyramid_levels - 1).
 Undistorter FrameUndistorter(const Dataset& dataset, const SystemOptions& options);

@@ -24,8 +24,10 @@ std::string Duration(double s) {
 std::string FormatProgress(const ProgressState& s) {
   const double fps = s.elapsed_s > 0.0 ? s.done / s.elapsed_s : 0.0;
   char text[256];
-  int n = std::snprintf(text, sizeof(text), "frame %d/%d (%d%%)  %.1f fps", s.done, s.total,
-                        s.total > 0 ? 100 * s.done / s.total : 0, fps);
+  // A live camera's frames have no total.
+  int n = s.total > 0 ? std::snprintf(text, sizeof(text), "frame %d/%d (%d%%)  %.1f fps", s.done, s.total,
+                                      100 * s.done / s.total, fps)
+                      : std::snprintf(text, sizeof(text), "frame %d  %.1f fps", s.done, fps);
   if (s.recording_s > 0.0 && s.elapsed_s > 0.0) {
     n += std::snprintf(text + n, sizeof(text) - n, "  %.2fx real time", s.recording_s / s.elapsed_s);
   }

@@ -27,4 +27,15 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const s
   return run.Finish();
 }
 
+RunSummary RunCamera(LiveCamera& camera, const RunOptions& options, const std::filesystem::path& out_dir) {
+  DatasetRun run(camera.dataset(), options, out_dir, &camera);
+  run.FeedFrames();
+  RunSummary summary = run.Finish();
+  const LiveCamera::Frame& end = run.live_end();
+  if (end.status == LiveCamera::Status::kBadSize)
+    throw InputError(end.message + " (the run's outputs are written)");
+  if (camera.dataset().frames.empty() && summary.interrupt_signal == 0) throw InputError(end.message);
+  return summary;
+}
+
 }  // namespace dsm

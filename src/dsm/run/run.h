@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dsm/io/dataset.h"
+#include "dsm/io/live_camera.h"
 #include "dsm/system/options.h"
 
 namespace dsm {
@@ -91,5 +92,12 @@ struct RunSummary {
 // SIGTERM (interrupt.h; the caller installs the handlers) the run stops after the current frame and
 // writes its outputs (stats: "interrupted": true).
 RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const std::filesystem::path& out_dir);
+
+// A run on a live camera's frames as it captures them (io/live_camera.h), in the realtime pace,
+// until its stream ends, stalls, or SIGINT / SIGTERM; writes what RunDataset writes, and
+// stats.json "live": its source, frames_captured, how it ended ("ended", "stalled",
+// "interrupted", "frame size") and the message. Throws InputError once the outputs are written
+// when a frame's size did not fit the calibration, and when no frame came at all.
+RunSummary RunCamera(LiveCamera& camera, const RunOptions& options, const std::filesystem::path& out_dir);
 
 }  // namespace dsm
