@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // dsm calibrate: a camera's geometric calibration from views of a checkerboard or a ChArUco board
 // (calibration/calibrate.h), written as the camera.yaml dsm run reads.
+#include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -9,6 +10,7 @@
 #include "dsm/run/map_run.h"
 #include "dsm/calibration/calibrate.h"
 #include "dsm/io/calibration_io.h"
+#include "dsm/run/line_delay_estimate.h"
 #include "dsm/util/check.h"
 
 namespace dsm::cli {
@@ -16,9 +18,38 @@ namespace dsm::cli {
 namespace {
 
 struct CalibrateArgs {
-  std::string input, board, model = "radtan", out = "camera.yaml", json;
+  std::string input, board, model = "radtan", out = "camera.yaml", json, calib;
   int max_views = 40;
+  bool line_delay = false;
 };
+
+// --line-delay: the rolling shutter's line delay of the camera that recorded INPUT
+// (run/line_delay_estimate.h), written with its calibration.
+int CalibrateLineDelay(const CalibrateArgs& a) {
+  VideoArgs video;
+  video.calib = a.calib;
+  Dataset dataset = OpenInput(a.input, GtArgs{}, video);
+  dataset.line_delay_us = 0.0;
+  dataset.line_delay_source = LineDelaySource::kUnknown;
+  RunOptions options;
+  options.quiet = true;
+  const LineDelayEstimate e = EstimateLineDelay(dataset, options);
+  std::printf("%s\n", LineDelayLine(e).c_str());
+  CameraYaml yaml;
+  yaml.camera = dataset.camera;
+  if (dataset.size() >= 2)
+    yaml.rate_hz = 1e9 * (dataset.size() - 1) / static_cast<double>(dataset.frames.back().t_ns - dataset.frames[0].t_ns);
+  yaml.line_delay_us = e.line_delay_us;
+  WriteCameraYaml(a.out, yaml);
+  std::printf("wrote %s\n", a.out.c_str());
+  if (!a.json.empty()) {
+    nlohmann::json trials = nlohmann::json::array();
+    for (const auto& [delay_us, score] : e.trials)
+      trials.push_back({delay_us, std::isfinite(score) ? nlohmann::json(score) : nlohmann::json()});
+    WriteJson(a.json, {{"line_delay_us", e.line_delay_us}, {"frames", e.frames}, {"trials", trials}, {"note", e.note}});
+  }
+  return 0;
+}
 
 void PrintReport(const CalibrationResult& r) {
   std::printf("%-7s %-8s %-8s\n", "frame", "corners", "rms px");
@@ -75,13 +106,21 @@ Command AddCalibrate(CLI::App& app) {
   app.add_option("--board", a->board,
                  "The board: checkerboard:COLSxROWS:SQUARE_M, COLSxROWS its inner corners (e.g. checkerboard:9x6:0.04), "
                  "or charuco:COLSxROWS:SQUARE_M:MARKER_M:DICT, COLSxROWS its squares as OpenCV's board generator "
-                 "counts them (e.g. charuco:8x6:0.04:0.03:DICT_4X4_50)")
-      ->required();
+                 "counts them (e.g. charuco:8x6:0.04:0.03:DICT_4X4_50)");
   app.add_option("--model", a->model, "pinhole | radtan (k1 k2 p1 p2, default) | equidistant (k1..k4) | fov (w)");
   app.add_option("--out", a->out, "The camera.yaml to write (default ./camera.yaml)");
   app.add_option("--json", a->json, "Also write the result as JSON: rms_px, views_used, intrinsics, distortion, ...");
   app.add_option("--max-views", a->max_views, "Most views calibrated with, picked to differ (default 40)");
+  app.add_flag("--line-delay", a->line_delay,
+               "Instead of a board: the rolling shutter's line delay, estimated from INPUT, a recording of a scene "
+               "(a dataset folder, or a video with --calib); writes its calibration with line_delay_us to --out");
+  app.add_option("--calib", a->calib, "--line-delay on a video: the camera.yaml of the camera that recorded it");
   return [a] {
+    if (a->line_delay) {
+      if (!a->board.empty()) throw InputError("--line-delay and --board exclude each other");
+      return CalibrateLineDelay(*a);
+    }
+    if (a->board.empty()) throw InputError("--board is required (or --line-delay, for a recording of a scene)");
     CalibrationOptions options;
     options.board = BoardSpec::Parse(a->board, "--board");
     options.model = ParseCameraModel(a->model, "--model");

@@ -105,7 +105,10 @@ int RunLiveCamera(const RunArgs& a, const RunOptions& options) {
   const CameraYaml yaml = ReadCameraYaml(a.video.calib);
   camera.camera = yaml.camera;
   camera.calibration_file = a.video.calib;
-  camera.line_delay_us = a.line_delay_us.value_or(yaml.line_delay_us);
+  if (a.line_delay_us || yaml.line_delay_us) {
+    camera.line_delay_us = a.line_delay_us ? *a.line_delay_us : *yaml.line_delay_us;
+    camera.line_delay_source = a.line_delay_us ? LineDelaySource::kOption : LineDelaySource::kCalibration;
+  }
   if (!ReadoutFits(camera.line_delay_us, camera.camera.height, 1e6 / yaml.rate_hz))
     throw InputError("--line-delay-us: the readout of " + std::to_string(camera.camera.height) +
                      " rows does not fit the frame interval of " + a.video.calib + " (rate_hz)");
@@ -214,6 +217,7 @@ Command AddRun(CLI::App& app) {
         throw InputError("--line-delay-us must be within 0 and the frame interval over the " + std::to_string(rows) +
                          " rows (" + std::to_string(interval_us / rows) + " us)");
       dataset.line_delay_us = *a->line_delay_us;
+      dataset.line_delay_source = LineDelaySource::kOption;
     }
     CatchInterrupts();
     return ExitCode(RunDataset(dataset, options, a->out));

@@ -186,6 +186,26 @@ TEST(Cli, CalibrateFindsTheCameraSynthRenderedTheBoardWith) {
   const Result neither = RunDsm("synth --out " + (dir / "x").string());
   EXPECT_EQ(neither.code, 2);
   EXPECT_TRUE(Contains(neither.output, "--scene or --board")) << neither.output;
+  const Result no_board = RunDsm("calibrate " + (dir / "boards").string());
+  EXPECT_EQ(no_board.code, 2);
+  EXPECT_TRUE(Contains(no_board.output, "--board is required (or --line-delay")) << no_board.output;
+}
+
+// dsm calibrate --line-delay on a recording of a scene: a global shutter's delay comes out 0 and
+// is written to the camera.yaml (rolling shutters: run/rolling_shutter in run_synthetic_test).
+TEST(Cli, CalibrateEstimatesTheLineDelayOfARecording) {
+  const fs::path dir = ScratchDir("cli_line_delay");
+  ASSERT_EQ(RunDsm("synth --scene loop --frames 100 --width 320 --height 240 --out " + (dir / "seq").string()).code, 0);
+  const Result r = RunDsm("calibrate " + (dir / "seq").string() + " --line-delay --out " + (dir / "camera.yaml").string() +
+                          " --json " + (dir / "delay.json").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(Contains(r.output, "line delay: 0.0 us per row")) << r.output;
+  EXPECT_EQ(ReadCameraYaml(dir / "camera.yaml").line_delay_us, 0.0);
+  std::ifstream json(dir / "delay.json");
+  EXPECT_EQ(nlohmann::json::parse(json)["trials"].size(), 5u);
+  const Result both = RunDsm("calibrate " + (dir / "seq").string() + " --line-delay --board checkerboard:9x6:0.04");
+  EXPECT_EQ(both.code, 2);
+  EXPECT_TRUE(Contains(both.output, "exclude each other")) << both.output;
 }
 
 TEST(Cli, RunWritesTrajectoriesStatsAndEvaluation) {

@@ -45,7 +45,7 @@ CameraYaml ReadCameraYaml(const fs::path& path) {
   }
   if (node["line_delay_us"]) {
     out.line_delay_us = Get<double>(node, "line_delay_us", path);
-    if (!ReadoutFits(out.line_delay_us, cam.height, 1e6 / out.rate_hz))
+    if (!ReadoutFits(*out.line_delay_us, cam.height, 1e6 / out.rate_hz))
       throw InputError(path.string() + ": key 'line_delay_us' must be within 0 and the frame interval over the rows");
   }
   cam.Validate(path.string());
@@ -61,7 +61,7 @@ void WriteCameraYaml(const fs::path& path, const CameraYaml& c) {
       << c.camera.cx << ", " << c.camera.cy << "]\ndistortion: [";
   for (size_t i = 0; i < c.camera.distortion.size(); ++i) out << (i ? ", " : "") << c.camera.distortion[i];
   out << "]\nrate_hz: " << c.rate_hz << "\n";
-  if (c.line_delay_us > 0.0) out << "line_delay_us: " << c.line_delay_us << "\n";
+  if (c.line_delay_us) out << "line_delay_us: " << *c.line_delay_us << "\n";
   if (!out) throw InputError(path.string() + ": write failed");
 }
 

@@ -25,8 +25,9 @@ struct CameraYaml {
   CameraCalibration camera;
   double rate_hz = 20.0;
   // Rolling shutter: microseconds between the exposures of two consecutive rows (key
-  // line_delay_us; 0, the default: a global shutter). The frame's timestamp is its first row's.
-  double line_delay_us = 0.0;
+  // line_delay_us; 0: a global shutter; none: the calibration does not say, and dsm run estimates
+  // it from the recording). The frame's timestamp is its first row's.
+  std::optional<double> line_delay_us;
 };
 // Whether a rolling shutter's readout, `rows` rows `line_delay_us` apart, fits within one frame
 // interval (and the delay is not negative).

@@ -26,10 +26,13 @@ TEST(CameraYaml, RoundTrip) {
   EXPECT_DOUBLE_EQ(back.camera.fy, 190.25);
   EXPECT_EQ(back.camera.distortion, c.camera.distortion);
   EXPECT_DOUBLE_EQ(back.rate_hz, 30);
-  EXPECT_DOUBLE_EQ(back.line_delay_us, 0.0);  // A global shutter unless the file says otherwise.
+  EXPECT_FALSE(back.line_delay_us.has_value());  // The file says nothing of the shutter.
   c.line_delay_us = 29.5;
   WriteCameraYaml(dir / "rolling.yaml", c);
-  EXPECT_DOUBLE_EQ(ReadCameraYaml(dir / "rolling.yaml").line_delay_us, 29.5);
+  EXPECT_EQ(ReadCameraYaml(dir / "rolling.yaml").line_delay_us, 29.5);
+  c.line_delay_us = 0.0;  // A global shutter, said.
+  WriteCameraYaml(dir / "global.yaml", c);
+  EXPECT_EQ(ReadCameraYaml(dir / "global.yaml").line_delay_us, 0.0);
 }
 
 TEST(CameraYaml, MalformedFilesGiveClearErrors) {

@@ -79,6 +79,16 @@ void ValidateFrames(const std::vector<FrameRecord>& frames, const std::string& s
   }
 }
 
+std::string LineDelaySourceName(LineDelaySource source) {
+  switch (source) {
+    case LineDelaySource::kUnknown: return "unknown";
+    case LineDelaySource::kCalibration: return "calibration";
+    case LineDelaySource::kOption: return "option";
+    case LineDelaySource::kEstimated: return "estimated";
+  }
+  return "?";
+}
+
 std::string GroundTruthConvention::Name() const {
   return std::string(frame == GtFrame::kBody ? "body" : "camera") +
          (quaternion == GtQuaternion::kHamilton ? "-hamilton" : "-jpl");

@@ -37,6 +37,9 @@ class ImageSizeError : public InputError {
   using InputError::InputError;
 };
 
+enum class LineDelaySource { kUnknown, kCalibration, kOption, kEstimated };
+std::string LineDelaySourceName(LineDelaySource source);  // unknown, calibration, option, estimated
+
 struct Dataset {
   std::string format;
   std::filesystem::path root;
@@ -45,9 +48,13 @@ struct Dataset {
   // of the TUM RGB-D benchmark, KITTI's calibration sized from the first image).
   std::filesystem::path calibration_file;
   UndistortMode undistort_mode = UndistortMode::kCrop;
-  // Rolling shutter: microseconds between two rows' exposures (camera.yaml's line_delay_us); 0: a
-  // global shutter. A frame's timestamp is its first row's.
+  // Rolling shutter: microseconds between two rows' exposures; 0: a global shutter. A frame's
+  // timestamp is its first row's. Where it comes from: the calibration (camera.yaml's
+  // line_delay_us), an option (dsm run --line-delay-us), an estimate from the recording
+  // (run/line_delay_estimate.h), or nowhere yet (kUnknown: the calibration does not say; the
+  // value is then 0).
   double line_delay_us = 0.0;
+  LineDelaySource line_delay_source = LineDelaySource::kUnknown;
   std::vector<FrameRecord> frames;  // Strictly increasing timestamps.
   Trajectory ground_truth;          // world_from_cam; empty when the dataset has none.
   std::optional<PhotometricCalibration> photometric;

@@ -36,7 +36,10 @@ Dataset ReadFolder(const fs::path& root) {
   d.format = "folder";
   d.root = root;
   const CameraYaml cam = ReadCameraYaml(root / "camera.yaml");
-  d.line_delay_us = cam.line_delay_us;
+  if (cam.line_delay_us) {
+    d.line_delay_us = *cam.line_delay_us;
+    d.line_delay_source = LineDelaySource::kCalibration;
+  }
   d.camera = cam.camera;
   d.calibration_file = root / "camera.yaml";
   d.images = MakeFolderStore(root / "images");

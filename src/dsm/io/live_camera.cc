@@ -173,7 +173,7 @@ void LiveCamera::Stop() {
   if (!recorder_) return;
   CameraYaml yaml;
   yaml.camera = dataset_.camera;
-  yaml.line_delay_us = dataset_.line_delay_us;
+  if (dataset_.line_delay_source != LineDelaySource::kUnknown) yaml.line_delay_us = dataset_.line_delay_us;
   recorder_->Close(yaml);
 }
 

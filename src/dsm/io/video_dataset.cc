@@ -122,8 +122,13 @@ Dataset OpenVideo(const fs::path& video, const VideoInput& input) {
   Dataset d;
   d.format = "video";
   d.root = video;
-  d.camera = ReadCameraYaml(input.camera_yaml).camera;
+  const CameraYaml yaml = ReadCameraYaml(input.camera_yaml);
+  d.camera = yaml.camera;
   d.calibration_file = input.camera_yaml;
+  if (yaml.line_delay_us) {
+    d.line_delay_us = *yaml.line_delay_us;
+    d.line_delay_source = LineDelaySource::kCalibration;
+  }
 
   // One pass over the video: the frame count and each frame's presentation time.
   cv::VideoCapture capture = OpenCapture(video);

@@ -202,6 +202,7 @@ void DatasetRun::Settle(const Atlas::Settled& s) {
   fed_.per_frame["frame"].push_back(i);
   fed_.per_frame["tracking_ms"].push_back(r.tracking_ms);
   fed_.per_frame["wait_ms"].push_back(r.wait_ms);
+  fed_.per_frame["tracking_rmse"].push_back(r.tracking_rmse);
   shown_.frame = i;
   shown_.done = i + 1 - options_.start;
   shown_.elapsed_s = std::chrono::duration<double>(Clock::now() - process0_).count();
@@ -375,6 +376,7 @@ RunSummary DatasetRun::Finish() {
   RunSummary summary =
       SummariseRun(dataset_, options_, undistorter_.output(), fed_, backlog_, &maps, map_loaded_, out_dir_);
   summary.stats["peak_rss_mb"] = PeakRssMb();
+  summary.stats.update(extra_stats_);
   if (camera_) {
     static const char* kEnds[] = {"frame", "ended", "stalled", "frame size"};
     summary.stats["live"] = {{"source", dataset_.root.string()},

@@ -59,6 +59,8 @@ class DatasetRun {
   // Ends the maps, writes every output and returns the summary; InputError after the other
   // outputs are written when the map file cannot be.
   RunSummary Finish();
+  // An entry of stats.json beside the run's own (set before Finish).
+  void AddStats(const std::string& key, nlohmann::json value) { extra_stats_[key] = std::move(value); }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -118,6 +120,7 @@ class DatasetRun {
   FrameBacklog backlog_;
   bool use_backlog_ = true;  // No latency target: frames wait in the backlog, not for a keyframe.
   FeedRecord fed_;
+  nlohmann::json extra_stats_ = nlohmann::json::object();
 };
 
 }  // namespace dsm

@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/run/run.h"
 
+#include <cmath>
+#include <cstdio>
+
 #include "dsm/run/dataset_run.h"
+#include "dsm/run/line_delay_estimate.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -22,7 +26,28 @@ std::string PaceName(Pace pace) {
 }
 
 RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const std::filesystem::path& out_dir) {
-  DatasetRun run(dataset, options, out_dir);
+  // (Frames the run cannot start from are its constructor's message.)
+  const bool startable = options.start >= 0 && options.start + 1 < static_cast<int>(dataset.size());
+  if (dataset.line_delay_source != LineDelaySource::kUnknown || !startable) {
+    DatasetRun run(dataset, options, out_dir);
+    run.FeedFrames();
+    return run.Finish();
+  }
+  // The calibration says nothing of the shutter: a first pass over the opening frames tells.
+  const LineDelayEstimate estimate = EstimateLineDelay(dataset, options);
+  if (!options.quiet) std::printf("%s\n", LineDelayLine(estimate).c_str());
+  Dataset estimated = dataset;
+  estimated.line_delay_us = estimate.line_delay_us;
+  estimated.line_delay_source = LineDelaySource::kEstimated;
+  DatasetRun run(estimated, options, out_dir);
+  nlohmann::json trials = nlohmann::json::array();
+  for (const auto& [delay_us, score] : estimate.trials)
+    trials.push_back({delay_us, std::isfinite(score) ? nlohmann::json(score) : nlohmann::json()});
+  run.AddStats("line_delay_estimate", {{"frames", estimate.frames},
+                                        {"first_frame", estimate.first_frame},
+                                        {"seconds", estimate.seconds},
+                                        {"trials", trials},
+                                        {"note", estimate.note}});
   run.FeedFrames();
   return run.Finish();
 }

@@ -228,6 +228,8 @@ RunSummary SummariseRun(const Dataset& dataset, const RunOptions& options, const
   summary.stats = MapsStatsJson(s, map_points);
   summary.stats["dataset"] = dataset.root.string();
   summary.stats["camera"] = CameraJson(camera);
+  summary.stats["line_delay_us"] = dataset.line_delay_us;
+  summary.stats["line_delay_source"] = LineDelaySourceName(dataset.line_delay_source);
   summary.stats["mode"] = MapModeName(options.system.mode);
   summary.stats["pace"] = PaceName(options.pace);
   AddFeedStats(dataset, options.start, fed, backlog, &summary.stats);

@@ -29,9 +29,12 @@ struct FeedRecord {
   std::vector<double> latency_ms, latency_final_ms;
   int posed_before_wait = 0;  // Frames told their pose before they waited for a keyframe being mapped.
   int relocalised_in_loaded_at = -1;  // The first frame a loaded map took.
-  // Per settled frame: "frame", "tracking_ms", "wait_ms" (parallel arrays).
-  nlohmann::json per_frame = {
-      {"frame", nlohmann::json::array()}, {"tracking_ms", nlohmann::json::array()}, {"wait_ms", nlohmann::json::array()}};
+  // Per settled frame: "frame", "tracking_ms", "wait_ms", "tracking_rmse" (parallel arrays; rmse
+  // 0 where the frame was not tracked).
+  nlohmann::json per_frame = {{"frame", nlohmann::json::array()},
+                              {"tracking_ms", nlohmann::json::array()},
+                              {"wait_ms", nlohmann::json::array()},
+                              {"tracking_rmse", nlohmann::json::array()}};
   double process_s = 0.0;  // From the first frame's release to the end of the last one's mapping.
 };
 

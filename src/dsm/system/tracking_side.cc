@@ -189,6 +189,7 @@ void TrackingSide::AcceptPose(FrameWork* f) {
   }
   last_frame_keyframe_ = -1;
   f->report.status = TrackingStatus::kOk;
+  f->report.tracking_rmse = result.rmse;
   ++stats_->frames_tracked;
   frames_.push_back({f->t_ns, reference_->keyframe, result.frame_from_keyframe, 0.0, reference_->scale});
   if (pose_listener_ && !f->report.posed_before_wait) pose_listener_(f->index, *LastFramePose());

@@ -48,6 +48,7 @@ struct FrameReport {
   // which counts frames again (System::Suspend).
   bool resumed = false;
   double tracking_ms = 0.0;  // Pyramid and alignment.
+  double tracking_rmse = 0.0;  // Of its alignment's gradient-weighted residuals at level 0 (kOk).
   double wait_ms = 0.0;      // Waiting for a keyframe to be mapped first (threaded).
   double mapping_ms = 0.0;   // Sequential: its candidate tracing, and its mapping when it became a keyframe.
   // Its pose was told before it waited for a keyframe being mapped (System::SetPoseListener).
