@@ -26,23 +26,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string output;
-};
+using Result = testing::CommandResult;
 
-// `command` run by sh; its exit code, stdout and stderr.
-Result Shell(const std::string& command) {
-  Result r;
-  FILE* pipe = popen(("sh -c '" + command + "' 2>&1").c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+// `command` run by sh (its own background jobs and `wait`s included).
+Result Shell(const std::string& command) { return testing::RunCommand("sh -c '" + command + "'"); }
 
 const std::string kDsm = DSM_CLI_PATH;
 

@@ -28,23 +28,9 @@ using testing::ScratchDir;
 using testing::SharedDataDir;
 using testing::WriteText;
 
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
+using Result = testing::CommandResult;
 
-Result RunDsm(const std::string& args) {
-  const std::string command = std::string(DSM_CLI_PATH) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+Result RunDsm(const std::string& args) { return testing::RunCommand(std::string(DSM_CLI_PATH) + " " + args); }
 
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/testing/test_data.h"
 
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 
@@ -30,6 +34,18 @@ fs::path WriteText(const fs::path& path, const std::string& text) {
   out << text;
   DSM_CHECK(out.good(), "cannot write " + path.string());
   return path;
+}
+
+CommandResult RunCommand(const std::string& command) {
+  CommandResult r;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
 }
 
 }  // namespace dsm::testing
