@@ -50,9 +50,12 @@ double Score(const OpeningFrames& frames, const Dataset& dataset, const Undistor
 LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   LineDelayEstimate out;
-  const int end = std::min<int>(static_cast<int>(dataset.size()), options.start + kLineDelayFrames);
-  out.first_frame = options.start;
+  // kLineDelayFrames of a 640x480 camera, more of a smaller one for the same cost (up to 3x).
   const Undistorter undistorter = FrameUndistorter(dataset, options.system);
+  const double pixels = static_cast<double>(undistorter.output().width) * undistorter.output().height;
+  const int budget = static_cast<int>(kLineDelayFrames * std::clamp(640.0 * 480.0 / pixels, 1.0, 3.0));
+  const int end = std::min<int>(static_cast<int>(dataset.size()), options.start + budget);
+  out.first_frame = options.start;
   OpeningFrames frames;
   for (int i = options.start; i < end; ++i) {
     try {
@@ -81,7 +84,10 @@ LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& op
     out.trials.emplace_back(delay_us, s);
     return s;
   };
-  constexpr int kSteps = 4;
+  // As many steps as runs of a 640x480 camera's eight cost (the dip at the right delay is a few
+  // milliseconds of readout wide), from 4 to 16.
+  const PinholeCamera& camera = undistorter.output();
+  const int kSteps = std::clamp(static_cast<int>(std::lround(8.0 * 640 * 480 / (camera.width * camera.height))), 4, 16);
   double step = max_us / kSteps;
   double best = 0.0;
   for (int k = 0; k <= kSteps; ++k)
@@ -100,12 +106,14 @@ LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& op
     for (double d : {centre - step, centre + step})
       if (d > 0.0 && d <= max_us && score(d) < score(best)) best = d;
   }
-  // The parabola fitted (least squares) to the scores within a quarter of the range of the best.
+  // The parabola fitted (least squares) to the scores within two coarse steps of the best: each
+  // run's score scatters by its own keyframe choices, which a wider fit evens out.
+  const double reach = 2.0 * max_us / kSteps;
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   int fitted = 0;
   for (const auto& [d, s] : out.trials) {
-    if (!std::isfinite(s) || std::abs(d - best) > max_us / kSteps + 1e-9) continue;
+    if (!std::isfinite(s) || std::abs(d - best) > reach + 1e-6) continue;
     const Eigen::Vector3d x(1.0, d - best, (d - best) * (d - best));
     normal += x * x.transpose();
     rhs += x * s;
@@ -114,7 +122,7 @@ LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& op
   double estimate = best;
   if (fitted >= 4) {
     const Eigen::Vector3d c = normal.ldlt().solve(rhs);
-    if (c[2] > 0.0) estimate = std::clamp(best - 0.5 * c[1] / c[2], best - max_us / kSteps, best + max_us / kSteps);
+    if (c[2] > 0.0) estimate = std::clamp(best - 0.5 * c[1] / c[2], best - reach, best + reach);
   }
   estimate = std::clamp(estimate, 0.0, max_us);
   if (!(score(best) < kLineDelayGain * score(0.0))) return finish(0.0, kNoDelay);
