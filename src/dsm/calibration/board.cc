@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdio>
 #include <regex>
+#include <stdexcept>
 
 #include "dsm/util/check.h"
 
@@ -48,7 +49,6 @@ BoardSpec BoardSpec::Parse(const std::string& text, const std::string& where) {
     b.kind = BoardKind::kCheckerboard;
   } else if (std::regex_match(text, m, kCharuco)) {
     b.kind = BoardKind::kCharuco;
-    b.marker_m = std::stod(m[4]);
     const std::string dict = Upper(m[5]);
     for (int id = 0; id < static_cast<int>(std::size(kDictionaries)); ++id) {
       if (Upper(kDictionaries[id].name) == dict || Upper(kDictionaries[id].name) == "DICT_" + dict) {
@@ -64,9 +64,14 @@ BoardSpec BoardSpec::Parse(const std::string& text, const std::string& where) {
   } else {
     throw InputError(bad + " is not a board: " + kForms);
   }
-  b.cols = std::stoi(m[1]);
-  b.rows = std::stoi(m[2]);
-  b.square_m = std::stod(m[3]);
+  try {
+    b.cols = std::stoi(m[1]);
+    b.rows = std::stoi(m[2]);
+    b.square_m = std::stod(m[3]);
+    if (b.kind == BoardKind::kCharuco) b.marker_m = std::stod(m[4]);
+  } catch (const std::out_of_range&) {
+    throw InputError(bad + ": a number out of range");
+  }
   if (b.CornerCols() < 3 || b.CornerRows() < 3 || b.cols > 100 || b.rows > 100)
     throw InputError(bad + ": a board has 3..100 inner corners each way (a ChArUco board one square more)");
   if (b.kind == BoardKind::kCheckerboard && b.cols == b.rows)
