@@ -155,13 +155,17 @@ std::vector<SE3d> BoardViews(const CameraCalibration& camera, const BoardSpec& b
     // Its width across the image as a share, hence its distance (pinhole approximation).
     const double share = 0.35 + 0.4 * unit(rng);
     const double distance = camera.fx * board_w / (share * camera.width);
+    // One draw after the other (the order of a call's arguments is the compiler's).
+    const double at_y = camera.height * unit(rng);
+    const double at_x = camera.width * unit(rng);
     Eigen::Vector2d n;
-    const Eigen::Vector2d at(camera.width * unit(rng), camera.height * unit(rng));
-    if (!camera.Unproject(at, &n)) continue;
+    if (!camera.Unproject({at_x, at_y}, &n)) continue;
     const Eigen::Vector3d position = distance * Eigen::Vector3d(n.x(), n.y(), 1.0).normalized();
     const double deg = M_PI / 180.0;
-    const Eigen::Matrix3d cam_R_board =
-        Rotation((2 * unit(rng) - 1) * 45 * deg, (2 * unit(rng) - 1) * 45 * deg, (2 * unit(rng) - 1) * 20 * deg);
+    const double turn = (2 * unit(rng) - 1) * 20 * deg;
+    const double tilt_y = (2 * unit(rng) - 1) * 45 * deg;
+    const double tilt_x = (2 * unit(rng) - 1) * 45 * deg;
+    const Eigen::Matrix3d cam_R_board = Rotation(tilt_x, tilt_y, turn);
     // cam_from_board maps the board's centre to `position`.
     const SE3d cam_from_board(SO3d(cam_R_board), position - cam_R_board * centre);
     if (InView(camera, board, cam_from_board)) views.push_back(cam_from_board);
