@@ -3,7 +3,8 @@
 // interface (H.264, lossless, at the sequence's rate) into `dsm run --camera URL`. The live run
 // tracks nearly every frame, as accurately as the same frames run from files in the realtime pace;
 // --record writes what was captured as a dataset that replays; a stream cut, stopped or
-// interrupted half-way ends the run with every output written.
+// interrupted half-way ends the run with every output written. And `dsm calibrate --line-delay`
+// on a recording.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -17,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dsm/eval/metrics.h"
+#include "dsm/io/calibration_io.h"
 #include "dsm/io/dataset.h"
 #include "dsm/io/trajectory_io.h"
 #include "dsm/testing/test_data.h"
@@ -172,6 +174,23 @@ TEST(Camera, AFrameSizeTheCalibrationDoesNotFitIsAMessageWithTheOutputsSoFar) {
   EXPECT_EQ(ExitOf(r), 2) << r.output;
   EXPECT_NE(r.output.find("frames are 320x240 but the calibration"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(dir / "out" / "stats.json"));
+}
+
+// dsm calibrate --line-delay on a recording of a scene: a global shutter's delay comes out 0 and
+// is written to the camera.yaml (rolling shutters: run/rolling_shutter in run_synthetic_test).
+TEST(Camera, CalibrateEstimatesTheLineDelayOfARecording) {
+  const fs::path dir = testing::ScratchDir("camera_line_delay");
+  ASSERT_EQ(Shell(kDsm + " synth --scene loop --frames 60 --width 320 --height 240 --out " + (dir / "seq").string()).code, 0);
+  const Result r = Shell(kDsm + " calibrate " + (dir / "seq").string() + " --line-delay --out " +
+                         (dir / "camera.yaml").string() + " --json " + (dir / "delay.json").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("line delay: 0.0 us per row"), std::string::npos) << r.output;
+  EXPECT_EQ(ReadCameraYaml(dir / "camera.yaml").line_delay_us, 0.0);
+  std::ifstream json(dir / "delay.json");
+  EXPECT_EQ(nlohmann::json::parse(json)["trials"].size(), 17u);  // 0 .. 16/16 of a 320x240 frame's interval.
+  const Result both = Shell(kDsm + " calibrate " + (dir / "seq").string() + " --line-delay --board checkerboard:9x6:0.04");
+  EXPECT_EQ(both.code, 2);
+  EXPECT_NE(both.output.find("exclude each other"), std::string::npos) << both.output;
 }
 
 }  // namespace

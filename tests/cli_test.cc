@@ -177,23 +177,6 @@ TEST(Cli, CalibrateFindsTheCameraSynthRenderedTheBoardWith) {
   EXPECT_TRUE(Contains(no_board.output, "--board is required (or --line-delay")) << no_board.output;
 }
 
-// dsm calibrate --line-delay on a recording of a scene: a global shutter's delay comes out 0 and
-// is written to the camera.yaml (rolling shutters: run/rolling_shutter in run_synthetic_test).
-TEST(Cli, CalibrateEstimatesTheLineDelayOfARecording) {
-  const fs::path dir = ScratchDir("cli_line_delay");
-  ASSERT_EQ(RunDsm("synth --scene loop --frames 60 --width 320 --height 240 --out " + (dir / "seq").string()).code, 0);
-  const Result r = RunDsm("calibrate " + (dir / "seq").string() + " --line-delay --out " + (dir / "camera.yaml").string() +
-                          " --json " + (dir / "delay.json").string());
-  ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_TRUE(Contains(r.output, "line delay: 0.0 us per row")) << r.output;
-  EXPECT_EQ(ReadCameraYaml(dir / "camera.yaml").line_delay_us, 0.0);
-  std::ifstream json(dir / "delay.json");
-  EXPECT_EQ(nlohmann::json::parse(json)["trials"].size(), 17u);  // 0 .. 16/16 of a 320x240 frame's interval.
-  const Result both = RunDsm("calibrate " + (dir / "seq").string() + " --line-delay --board checkerboard:9x6:0.04");
-  EXPECT_EQ(both.code, 2);
-  EXPECT_TRUE(Contains(both.output, "exclude each other")) << both.output;
-}
-
 TEST(Cli, RunWritesTrajectoriesStatsAndEvaluation) {
   const fs::path dir = ScratchDir("cli_run");
   ASSERT_EQ(RunDsm("synth --scene shake --out " + (dir / "seq").string() + " --frames 60 --width 320 --height 240").code, 0);

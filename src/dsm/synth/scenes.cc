@@ -120,9 +120,10 @@ void BlockRing(std::mt19937& rng, Scene* scene) {
       lo[w.axis] = a0, hi[w.axis] = a1;
       lo[1 - w.axis] = std::min(d0, d1), hi[1 - w.axis] = std::max(d0, d1);
       lo.z() = 0.f, hi.z() = height;
-      scene->AddBox(lo, hi,
-                    MakeTexture(rng, 0.3f + 0.4f * u(rng), 0.2f + 0.2f * u(rng), 0.2f + 0.8f * u(rng),
-                                u(rng) < 0.4f ? 0.1f + 0.4f * u(rng) : 0.f));
+      // A texture's numbers are drawn last to first, as the scenes were first rendered.
+      const float lines = u(rng) < 0.4f ? 0.1f + 0.4f * u(rng) : 0.f;
+      const float scale = 0.2f + 0.8f * u(rng), contrast = 0.2f + 0.2f * u(rng), base = 0.3f + 0.4f * u(rng);
+      scene->AddBox(lo, hi, MakeTexture(rng, base, contrast, scale, lines));
       along = a1;
     }
   }
@@ -141,10 +142,14 @@ void BlockRing(std::mt19937& rng, Scene* scene) {
         lo[c.axis] = along, hi[c.axis] = next;
         lo[1 - c.axis] = c.side_lo, hi[1 - c.axis] = c.side_hi;
         lo.z() = ceiling ? 2.79f : 0.f, hi.z() = ceiling ? 2.8f : 0.01f;
-        scene->AddBox(lo, hi,
-                      ceiling ? MakeTexture(rng, 0.65f + 0.2f * u(rng), 0.1f + 0.1f * u(rng), 0.5f + u(rng), 0.f, 0.5f)
-                              : MakeTexture(rng, 0.3f + 0.3f * u(rng), 0.2f + 0.15f * u(rng), 0.3f + 0.7f * u(rng),
-                                            u(rng) < 0.5f ? 0.3f + 0.5f * u(rng) : 0.f));
+        if (ceiling) {
+          const float scale = 0.5f + u(rng), contrast = 0.1f + 0.1f * u(rng), base = 0.65f + 0.2f * u(rng);
+          scene->AddBox(lo, hi, MakeTexture(rng, base, contrast, scale, 0.f, 0.5f));
+        } else {
+          const float lines = u(rng) < 0.5f ? 0.3f + 0.5f * u(rng) : 0.f;
+          const float scale = 0.3f + 0.7f * u(rng), contrast = 0.2f + 0.15f * u(rng), base = 0.3f + 0.3f * u(rng);
+          scene->AddBox(lo, hi, MakeTexture(rng, base, contrast, scale, lines));
+        }
       }
       along = next;
     }
@@ -198,7 +203,8 @@ void TwinCorridor(std::mt19937& rng, Scene* scene) {
     const float depth = 0.2f + 0.3f * u(rng), height = 0.6f + 1.6f * u(rng), width = 0.5f + 0.6f * u(rng);
     const Eigen::Vector3f lo(x, side > 0 ? 1.5f - depth : -1.5f, 0.f);
     boxes.emplace_back(lo, lo + Eigen::Vector3f(width, depth, height));
-    textures.push_back(MakeTexture(rng, 0.3f + 0.4f * u(rng), 0.3f, 0.3f + 0.4f * u(rng)));
+    const float scale = 0.3f + 0.4f * u(rng), base = 0.3f + 0.4f * u(rng);  // Last to first.
+    textures.push_back(MakeTexture(rng, base, 0.3f, scale));
   }
   // A partition with a door (1 m wide, 2.1 m high) at the end of each half.
   const Texture partition = MakeTexture(rng, 0.5f, 0.3f, 1.0f);
