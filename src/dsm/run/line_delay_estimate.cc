@@ -52,6 +52,9 @@ LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& op
   LineDelayEstimate out;
   // kLineDelayFrames of a 640x480 camera, more of a smaller one for the same cost (up to 3x).
   const Undistorter undistorter = FrameUndistorter(dataset, options.system);
+  // A System of the run's own options first: what they name and cannot load (a vocabulary file)
+  // is said before the runs, which leave loop closure out.
+  System(undistorter.output(), options.system).Finish();
   const double pixels = static_cast<double>(undistorter.output().width) * undistorter.output().height;
   const int budget = static_cast<int>(kLineDelayFrames * std::clamp(640.0 * 480.0 / pixels, 1.0, 3.0));
   const int end = std::min<int>(static_cast<int>(dataset.size()), options.start + budget);
