@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 // dsm calibrate: a camera's geometric calibration from views of a checkerboard or a ChArUco board
 // (calibration/calibrate.h), written as the camera.yaml dsm run reads.
-#include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -42,12 +41,7 @@ int CalibrateLineDelay(const CalibrateArgs& a) {
   yaml.line_delay_us = e.line_delay_us;
   WriteCameraYaml(a.out, yaml);
   std::printf("wrote %s\n", a.out.c_str());
-  if (!a.json.empty()) {
-    nlohmann::json trials = nlohmann::json::array();
-    for (const auto& [delay_us, score] : e.trials)
-      trials.push_back({delay_us, std::isfinite(score) ? nlohmann::json(score) : nlohmann::json()});
-    WriteJson(a.json, {{"line_delay_us", e.line_delay_us}, {"frames", e.frames}, {"trials", trials}, {"note", e.note}});
-  }
+  if (!a.json.empty()) WriteJson(a.json, LineDelayJson(e));
   return 0;
 }
 

@@ -50,13 +50,14 @@ double Score(const OpeningFrames& frames, const Dataset& dataset, const Undistor
 LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   LineDelayEstimate out;
-  // kLineDelayFrames of a 640x480 camera, more of a smaller one for the same cost (up to 3x).
   const Undistorter undistorter = FrameUndistorter(dataset, options.system);
   // A System of the run's own options first: what they name and cannot load (a vocabulary file)
   // is said before the runs, which leave loop closure out.
   System(undistorter.output(), options.system).Finish();
-  const double pixels = static_cast<double>(undistorter.output().width) * undistorter.output().height;
-  const int budget = static_cast<int>(kLineDelayFrames * std::clamp(640.0 * 480.0 / pixels, 1.0, 3.0));
+  // A run's cost against a 640x480 camera's: a smaller image affords more frames (up to 3x) and
+  // more candidates.
+  const double cheaper = 640.0 * 480.0 / (static_cast<double>(undistorter.output().width) * undistorter.output().height);
+  const int budget = static_cast<int>(kLineDelayFrames * std::clamp(cheaper, 1.0, 3.0));
   const int end = std::min<int>(static_cast<int>(dataset.size()), options.start + budget);
   out.first_frame = options.start;
   OpeningFrames frames;
@@ -87,13 +88,12 @@ LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& op
     out.trials.emplace_back(delay_us, s);
     return s;
   };
-  // As many steps as runs of a 640x480 camera's eight cost (the dip at the right delay is a few
+  // As many steps as a 640x480 camera's eight cost (the dip at the right delay is a few
   // milliseconds of readout wide), from 4 to 16.
-  const PinholeCamera& camera = undistorter.output();
-  const int kSteps = std::clamp(static_cast<int>(std::lround(8.0 * 640 * 480 / (camera.width * camera.height))), 4, 16);
-  double step = max_us / kSteps;
+  const int steps = std::clamp(static_cast<int>(std::lround(8.0 * cheaper)), 4, 16);
+  double step = max_us / steps;
   double best = 0.0;
-  for (int k = 0; k <= kSteps; ++k)
+  for (int k = 0; k <= steps; ++k)
     if (score(k * step) < score(best)) best = k * step;
   const auto finish = [&](double delay_us, const char* note) {
     out.line_delay_us = delay_us;
@@ -111,7 +111,7 @@ LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& op
   }
   // The parabola fitted (least squares) to the scores within two coarse steps of the best: each
   // run's score scatters by its own keyframe choices, which a wider fit evens out.
-  const double reach = 2.0 * max_us / kSteps;
+  const double reach = 2.0 * max_us / steps;
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   int fitted = 0;
@@ -127,9 +127,15 @@ LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& op
     const Eigen::Vector3d c = normal.ldlt().solve(rhs);
     if (c[2] > 0.0) estimate = std::clamp(best - 0.5 * c[1] / c[2], best - reach, best + reach);
   }
-  estimate = std::clamp(estimate, 0.0, max_us);
-  if (!(score(best) < kLineDelayGain * score(0.0))) return finish(0.0, kNoDelay);
-  return finish(estimate, "");
+  return finish(std::clamp(estimate, 0.0, max_us), "");
+}
+
+nlohmann::json LineDelayJson(const LineDelayEstimate& e) {
+  nlohmann::json trials = nlohmann::json::array();
+  for (const auto& [delay_us, score] : e.trials)
+    trials.push_back({delay_us, std::isfinite(score) ? nlohmann::json(score) : nlohmann::json()});
+  return {{"line_delay_us", e.line_delay_us}, {"frames", e.frames},  {"first_frame", e.first_frame},
+          {"seconds", e.seconds},             {"trials", trials},    {"note", e.note}};
 }
 
 std::string LineDelayLine(const LineDelayEstimate& e) {

@@ -23,8 +23,11 @@
 // A run whose frames never start a map, or that tracks fewer than half of them, scores infinity.
 #pragma once
 
+#include <string>
 #include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "dsm/io/dataset.h"
 #include "dsm/run/run.h"
@@ -45,6 +48,10 @@ constexpr double kLineDelayGain = 0.9;
 // Over frames options.start .. +kLineDelayFrames of `dataset` (fewer when it ends first; fewer than
 // 30: no estimate, 0), with `options.system`.
 LineDelayEstimate EstimateLineDelay(const Dataset& dataset, const RunOptions& options);
+
+// {"line_delay_us", "frames", "first_frame", "seconds", "trials": [[delay us, score or null]],
+// "note"}.
+nlohmann::json LineDelayJson(const LineDelayEstimate& estimate);
 
 // "line delay: 31.2 us per row, estimated from frames 0..119 (11 runs, 14.2 s)", or why 0.
 std::string LineDelayLine(const LineDelayEstimate& estimate);

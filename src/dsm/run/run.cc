@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "dsm/run/run.h"
 
-#include <cmath>
 #include <cstdio>
 
 #include "dsm/run/dataset_run.h"
@@ -40,14 +39,7 @@ RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const s
   estimated.line_delay_us = estimate.line_delay_us;
   estimated.line_delay_source = LineDelaySource::kEstimated;
   DatasetRun run(estimated, options, out_dir);
-  nlohmann::json trials = nlohmann::json::array();
-  for (const auto& [delay_us, score] : estimate.trials)
-    trials.push_back({delay_us, std::isfinite(score) ? nlohmann::json(score) : nlohmann::json()});
-  run.AddStats("line_delay_estimate", {{"frames", estimate.frames},
-                                        {"first_frame", estimate.first_frame},
-                                        {"seconds", estimate.seconds},
-                                        {"trials", trials},
-                                        {"note", estimate.note}});
+  run.AddStats("line_delay_estimate", LineDelayJson(estimate));
   run.FeedFrames();
   return run.Finish();
 }
