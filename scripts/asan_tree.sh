@@ -26,7 +26,9 @@ asan_build() {
   cmake --build "$ASAN_DIR" -j "$ASAN_JOBS" --target "$@"
 }
 
-# The fuzz targets, as fuzz/CMakeLists.txt lists them.
+# The fuzz targets, as fuzz/CMakeLists.txt lists them (the list may span lines).
 fuzz_targets() {
-  sed -n 's/^set(DSM_FUZZ_TARGETS \(.*\))$/\1/p' fuzz/CMakeLists.txt
+  awk '/^set\(DSM_FUZZ_TARGETS/ { on = 1; sub(/^set\(DSM_FUZZ_TARGETS/, "") }
+       on { done = sub(/\).*$/, ""); printf "%s ", $0; if (done) exit }' fuzz/CMakeLists.txt |
+    tr -s ' ' | sed 's/^ //; s/ $//'
 }

@@ -18,6 +18,10 @@ fi
 source scripts/asan_tree.sh
 asan_configure
 read -r -a targets <<<"$(fuzz_targets)"
+if [ "${#targets[@]}" -eq 0 ]; then
+  echo "fuzz: no targets found in fuzz/CMakeLists.txt (set(DSM_FUZZ_TARGETS ...))" >&2
+  exit 1
+fi
 asan_build dsm $(printf '%s_fuzz ' "${targets[@]}")
 
 work="$ASAN_DIR/fuzz-work"
