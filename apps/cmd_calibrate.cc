@@ -48,7 +48,9 @@ int CalibrateLineDelay(const CalibrateArgs& a) {
 void PrintReport(const CalibrationResult& r) {
   std::printf("%-7s %-8s %-8s\n", "frame", "corners", "rms px");
   for (const CalibrationView& v : r.views) {
-    if (v.used)
+    if (v.used && v.corners_dropped > 0)
+      std::printf("%-7d %-8d %-8.3f %d corners left out as outliers\n", v.frame, v.corners, v.rms_px, v.corners_dropped);
+    else if (v.used)
       std::printf("%-7d %-8d %-8.3f\n", v.frame, v.corners, v.rms_px);
     else
       std::printf("%-7d %-8d %-8s not used: %s\n", v.frame, v.corners, "-", v.why_not.c_str());
@@ -75,7 +77,7 @@ nlohmann::json Json(const CalibrationResult& r) {
   nlohmann::json views = nlohmann::json::array();
   for (const CalibrationView& v : r.views) {
     nlohmann::json j = {{"frame", v.frame}, {"used", v.used}, {"corners", v.corners}};
-    if (v.used) j["rms_px"] = v.rms_px;
+    if (v.used) j["rms_px"] = v.rms_px, j["corners_dropped"] = v.corners_dropped;
     else j["why_not"] = v.why_not;
     views.push_back(j);
   }

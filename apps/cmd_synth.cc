@@ -12,7 +12,7 @@ namespace dsm::cli {
 namespace {
 
 struct BoardArgs {
-  std::string spec, model = "radtan";
+  std::string spec;
   int views = 24;
 };
 
@@ -22,12 +22,15 @@ Command AddSynth(CLI::App& app) {
   auto o = std::make_shared<synth::SynthOptions>();
   auto out = std::make_shared<std::string>();
   auto board = std::make_shared<BoardArgs>();
+  auto model = std::make_shared<std::string>();
   CLI::Option* scene = app.add_option("--scene", o->scene, synth::SceneNameList(" | ", " | "));
   app.add_option("--board", board->spec,
                  "Instead of a scene: views of a calibration board (checkerboard:COLSxROWS:SQUARE_M or "
                  "charuco:COLSxROWS:SQUARE_M:MARKER_M:DICT, as dsm calibrate reads them) seen by a camera "
                  "of --model (camera.yaml holds its truth; dsm calibrate finds it back)");
-  app.add_option("--model", board->model, "--board: pinhole | radtan (default) | equidistant | fov");
+  app.add_option("--model", *model,
+                 "The camera's lens: pinhole | radtan | equidistant | fov (default: pinhole for --scene, radtan for "
+                 "--board); a scene's lens keeps the pinhole's focal length and adds a typical distortion");
   app.add_option("--views", board->views, "--board: how many views (default 24)");
   app.add_option("--out", *out, "Output folder (generic folder format)")->required();
   app.add_option("--frames", o->frames, "Number of frames (default: the scene's own length)");
@@ -51,20 +54,21 @@ Command AddSynth(CLI::App& app) {
   app.add_option("--defects", o->defects,
                  "Bad frames to inject: KIND:FIRST[-LAST],... with KIND black, saturated, noise, cover (a hand "
                  "over the lens), corrupt, truncated or empty (damaged files), e.g. black:200-214,corrupt:350");
-  return [o, out, board, scene] {
+  return [o, out, board, model, scene] {
     if (board->spec.empty() == (scene->count() == 0)) throw InputError("synth: give --scene or --board, one of them");
     if (!board->spec.empty()) {
       const BoardSpec spec = BoardSpec::Parse(board->spec, "--board");
-      const CameraCalibration camera = ExampleCamera(ParseCameraModel(board->model, "--model"));
+      const CameraCalibration camera = ExampleCamera(ParseCameraModel(model->empty() ? "radtan" : *model, "--model"));
       if (board->views < 1 || board->views > 1000) throw InputError("--views must be 1..1000");
       WriteBoardSequence(*out, camera, spec, board->views, o->seed);
       std::printf("done: %d views of %s by a %s camera in %s\n", board->views, spec.ToString().c_str(),
                   CameraModelName(camera.model).c_str(), out->c_str());
       return 0;
     }
+    if (!model->empty()) o->model = ParseCameraModel(*model, "--model");
     const synth::SynthSequence seq = synth::MakeSequence(*o);
-    std::printf("rendering scene '%s': %zu frames %dx%d into %s\n", o->scene.c_str(), seq.size(), o->width, o->height,
-                out->c_str());
+    std::printf("rendering scene '%s': %zu frames %dx%d (%s) into %s\n", o->scene.c_str(), seq.size(), o->width,
+                o->height, CameraModelName(o->model).c_str(), out->c_str());
     const synth::WriteSummary s = synth::WriteSequence(seq, *o, *out, [](size_t done, size_t total) {
       if (done % 96 == 0 || done == total) std::printf("  %zu/%zu frames\n", done, total), std::fflush(stdout);
     });

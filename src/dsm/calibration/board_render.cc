@@ -12,6 +12,7 @@
 #include "dsm/io/calibration_io.h"
 #include "dsm/io/dataset.h"
 #include "dsm/io/folder_dataset.h"
+#include "dsm/synth/lens_rays.h"
 #include "dsm/io/image_io.h"
 #include "dsm/synth/renderer.h"
 #include "dsm/synth/scenes.h"
@@ -21,7 +22,10 @@ namespace dsm {
 
 namespace {
 
-constexpr int kSamples = 4;
+// Rays per pixel along each axis: a pixel whose kCoarse x kCoarse rays all see one colour takes
+// it; a pixel an edge crosses averages kFine x kFine (its value then places the edge within about
+// 1 / kFine^2 of a pixel's area).
+constexpr int kCoarse = 4, kFine = 16;
 constexpr double kBlack = 40.0, kWhite = 210.0, kWall = 120.0;
 constexpr int kPixelsPerSquare = 120;  // Of a ChArUco board's drawing.
 
@@ -85,27 +89,13 @@ CameraCalibration ExampleCamera(CameraModel model) {
   c.width = 640;
   c.height = 480;
   c.fx = 420.0, c.fy = 418.0, c.cx = 322.5, c.cy = 237.0;
-  if (model == CameraModel::kRadTan) c.distortion = {-0.28, 0.08, 0.0006, -0.0004};
   if (model == CameraModel::kEquidistant || model == CameraModel::kFov) c.fx = 300.0, c.fy = 299.0;
-  if (model == CameraModel::kEquidistant) c.distortion = {0.02, -0.015, 0.004, -0.001};
-  if (model == CameraModel::kFov) c.distortion = {0.9};
+  c.distortion = synth::TypicalDistortion(model);
   c.Validate("ExampleCamera");
   return c;
 }
 
-BoardRenderer::BoardRenderer(const CameraCalibration& camera) : camera_(camera) {
-  const int w = camera.width * kSamples, h = camera.height * kSamples;
-  rays_.resize(static_cast<size_t>(w) * h);
-  tbb::parallel_for(0, h, [&](int sy) {
-    for (int sx = 0; sx < w; ++sx) {
-      // Sample (sx, sy) of pixel (sx / k, sy / k), spread evenly over the pixel's area.
-      const Eigen::Vector2d px((sx + 0.5) / kSamples - 0.5, (sy + 0.5) / kSamples - 0.5);
-      Eigen::Vector2d n;
-      rays_[static_cast<size_t>(sy) * w + sx] =
-          camera.Unproject(px, &n) ? n.cast<float>() : Eigen::Vector2f(NAN, NAN);
-    }
-  });
-}
+BoardRenderer::BoardRenderer(const CameraCalibration& camera) : lens_(camera) {}
 
 Image<uint8_t> BoardRenderer::Render(const BoardSpec& board, const SE3d& cam_from_board, double noise_sigma,
                                      uint32_t seed) const {
@@ -113,27 +103,44 @@ Image<uint8_t> BoardRenderer::Render(const BoardSpec& board, const SE3d& cam_fro
   const SE3d board_from_cam = cam_from_board.Inverse();
   const Eigen::Matrix3d R = board_from_cam.So3().Matrix();
   const Eigen::Vector3d origin = board_from_cam.Translation();  // The camera centre in the board's frame.
-  const int w = camera_.width * kSamples;
-  Image<float> albedo(camera_.width, camera_.height);
-  tbb::parallel_for(0, camera_.height, [&](int y) {
-    for (int x = 0; x < camera_.width; ++x) {
-      double sum = 0.0;
-      for (int sy = 0; sy < kSamples; ++sy)
-        for (int sx = 0; sx < kSamples; ++sx) {
-          const Eigen::Vector2f& n = rays_[static_cast<size_t>(y * kSamples + sy) * w + x * kSamples + sx];
-          double value = kWall;
-          if (!std::isnan(n.x())) {
-            const Eigen::Vector3d dir = R * Eigen::Vector3d(n.x(), n.y(), 1.0);
-            const double t = std::abs(dir.z()) > 1e-12 ? -origin.z() / dir.z() : -1.0;
-            if (t > 0.0) {
-              const Eigen::Vector3d hit = origin + t * dir;
-              const int colour = pattern.Colour(hit.x(), hit.y());
-              if (colour >= 0) value = colour == 1 ? kBlack : kWhite;
-            }
+  // What the ray through normalized coordinates n sees.
+  const auto value_of = [&](const Eigen::Vector2d& n) {
+    const Eigen::Vector3d dir = R * Eigen::Vector3d(n.x(), n.y(), 1.0);
+    const double t = std::abs(dir.z()) > 1e-12 ? -origin.z() / dir.z() : -1.0;
+    if (t <= 0.0) return kWall;
+    const Eigen::Vector3d hit = origin + t * dir;
+    const int colour = pattern.Colour(hit.x(), hit.y());
+    return colour < 0 ? kWall : colour == 1 ? kBlack : kWhite;
+  };
+  const int width = lens_.width(), height = lens_.height();
+  Image<float> albedo(width, height);
+  tbb::parallel_for(0, height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      // The rays inside the pixel, from its corners' normalized coordinates (bilinear: the lens
+      // bends a pixel's rays by a few millionths of one).
+      const Eigen::Vector2d c00 = lens_.Corner(x, y).cast<double>(), c10 = lens_.Corner(x + 1, y).cast<double>(),
+                            c01 = lens_.Corner(x, y + 1).cast<double>(),
+                            c11 = lens_.Corner(x + 1, y + 1).cast<double>();
+      if (!c00.allFinite() || !c10.allFinite() || !c01.allFinite() || !c11.allFinite()) {
+        albedo(x, y) = static_cast<float>(kWall / 255.0);
+        continue;
+      }
+      const auto mean_of = [&](int samples) {
+        double sum = 0.0, first = -1.0;
+        bool one_value = true;
+        for (int sy = 0; sy < samples; ++sy)
+          for (int sx = 0; sx < samples; ++sx) {
+            const double a = (sx + 0.5) / samples, b = (sy + 0.5) / samples;
+            const double value = value_of((1 - b) * ((1 - a) * c00 + a * c10) + b * ((1 - a) * c01 + a * c11));
+            if (first < 0.0) first = value;
+            one_value = one_value && value == first;
+            sum += value;
           }
-          sum += value;
-        }
-      albedo(x, y) = static_cast<float>(sum / (kSamples * kSamples) / 255.0);
+        return std::make_pair(sum / (samples * samples), one_value);
+      };
+      auto [mean, one_value] = mean_of(kCoarse);
+      if (!one_value) mean = mean_of(kFine).first;
+      albedo(x, y) = static_cast<float>(mean / 255.0);
     }
   });
   // The synthetic world's image formation at unit gain (a grey level per 1/255 of albedo).

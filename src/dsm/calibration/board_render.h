@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // A calibration board rendered as a camera of any model sees it (camera.h), so that tests of the
-// calibration know the answer: each pixel averages 4 x 4 rays spread over its area
-// (CameraCalibration::Unproject, once per camera), each intersected with the board's plane: black
+// calibration know the answer: each pixel averages 4 x 4 rays spread over its area, 16 x 16 where
+// an edge crosses it (from its corners' rays, CameraCalibration::Unproject once per camera), each
+// intersected with the board's plane: black
 // 40 or white 210 where they hit the board (a ChArUco board as OpenCV draws it) or its white margin
 // of a square, a grey 120 wall beyond; then the synthetic world's image formation
 // (synth::FormImage: Gaussian noise, 8-bit quantisation).
@@ -17,6 +18,7 @@
 #include "dsm/geometry/camera.h"
 #include "dsm/image/image.h"
 #include "dsm/lie/se3.h"
+#include "dsm/synth/lens_rays.h"
 
 namespace dsm {
 
@@ -26,12 +28,11 @@ CameraCalibration ExampleCamera(CameraModel model);
 
 class BoardRenderer {
  public:
-  explicit BoardRenderer(const CameraCalibration& camera);  // Unprojects every sample's ray once.
+  explicit BoardRenderer(const CameraCalibration& camera);  // Unprojects every pixel corner's ray once.
   Image<uint8_t> Render(const BoardSpec& board, const SE3d& cam_from_board, double noise_sigma, uint32_t seed) const;
 
  private:
-  CameraCalibration camera_;
-  std::vector<Eigen::Vector2f> rays_;  // Normalized coordinates per sample, row by row (NaN: none).
+  synth::LensRays lens_;
 };
 
 // `count` views of the board as a person calibrating takes them: the board 0.35..0.75 of the

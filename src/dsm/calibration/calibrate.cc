@@ -2,6 +2,7 @@
 #include "dsm/calibration/calibrate.h"
 
 #include <algorithm>
+#include <map>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +29,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kMaxEdgeWidthPx = 3.0;  // Sharpness: the median width of the board's edges.
+// A corner is an outlier beyond 5 times the median corner's error, and never within this.
+constexpr double kMinCornerOutlierPx = 0.25;
 
 // The frames of `input`: a folder of images (its images/ when it has one) or a video file.
 std::shared_ptr<ImageStore> FramesOf(const fs::path& input) {
@@ -159,17 +162,26 @@ Solution Solve(const std::vector<BoardDetection>& views, const BoardSpec& board,
   return s;
 }
 
-// Reprojection RMS of each view's corners with the model as dsm projects it.
-std::vector<double> ViewRms(const Solution& s, const std::vector<BoardDetection>& views, const BoardSpec& board) {
+// Each corner's reprojection error, view by view, with the model as dsm projects it.
+std::vector<std::vector<double>> CornerResiduals(const Solution& s, const std::vector<BoardDetection>& views,
+                                                 const BoardSpec& board) {
   const std::vector<Eigen::Vector3d> corners = board.Corners();
-  std::vector<double> rms;
-  for (size_t v = 0; v < views.size(); ++v) {
-    double sum = 0.0;
+  std::vector<std::vector<double>> residuals(views.size());
+  for (size_t v = 0; v < views.size(); ++v)
     for (size_t i = 0; i < views[v].ids.size(); ++i) {
       const Eigen::Vector2d px = s.camera.Project(s.cam_from_board[v] * corners[views[v].ids[i]]);
-      sum += (px - Eigen::Vector2d(views[v].corners[i].x, views[v].corners[i].y)).squaredNorm();
+      residuals[v].push_back((px - Eigen::Vector2d(views[v].corners[i].x, views[v].corners[i].y)).norm());
     }
-    rms.push_back(std::sqrt(sum / views[v].ids.size()));
+  return residuals;
+}
+
+// Reprojection RMS of each view's corners.
+std::vector<double> ViewRms(const Solution& s, const std::vector<BoardDetection>& views, const BoardSpec& board) {
+  std::vector<double> rms;
+  for (const std::vector<double>& r : CornerResiduals(s, views, board)) {
+    double sum = 0.0;
+    for (double e : r) sum += e * e;
+    rms.push_back(r.empty() ? 0.0 : std::sqrt(sum / r.size()));
   }
   return rms;
 }
@@ -219,17 +231,42 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
     throw InputError(input.string() + ": the board is sharp in " + std::to_string(used.size()) + " frames; " +
                      std::to_string(kMinViews) + " or more views are needed, at different places and tilts");
   Solution s = Solve(used, board, options.model, *size);
+  // Outliers: corners far from where the solution projects them (a ChArUco corner the markers'
+  // interpolation misplaced by a pixel or two), then views whose RMS is far above the others'.
+  // Calibrated again without them, once.
+  std::map<int, int> corners_dropped;  // By frame.
+  {
+    const std::vector<std::vector<double>> residuals = CornerResiduals(s, used, board);
+    std::vector<double> all;
+    for (const auto& r : residuals) all.insert(all.end(), r.begin(), r.end());
+    const double corner_limit = std::max(kMinCornerOutlierPx, 5.0 * Median(all));
+    for (size_t v = 0; v < used.size(); ++v) {
+      BoardDetection kept;
+      for (size_t i = 0; i < used[v].ids.size(); ++i)
+        if (residuals[v][i] <= corner_limit) kept.ids.push_back(used[v].ids[i]), kept.corners.push_back(used[v].corners[i]);
+      const int dropped = static_cast<int>(used[v].ids.size() - kept.ids.size());
+      if (dropped == 0) continue;
+      corners_dropped[used[v].frame] = dropped;
+      used[v].ids = std::move(kept.ids);
+      used[v].corners = std::move(kept.corners);
+    }
+  }
   std::vector<double> rms = ViewRms(s, used, board);
   const double limit = std::max(0.5, 3.0 * Median(rms));
   std::vector<BoardDetection> kept;
   std::vector<int> dropped;
-  for (size_t v = 0; v < used.size(); ++v) (rms[v] <= limit ? kept.push_back(used[v]) : dropped.push_back(used[v].frame));
-  if (!dropped.empty() && static_cast<int>(kept.size()) >= kMinViews) {
+  for (size_t v = 0; v < used.size(); ++v) {
+    const bool whole = static_cast<int>(used[v].ids.size()) >= kMinCorners;
+    (whole && rms[v] <= limit ? kept.push_back(used[v]) : dropped.push_back(used[v].frame));
+  }
+  if ((!dropped.empty() || !corners_dropped.empty()) && static_cast<int>(kept.size()) >= kMinViews) {
     used = std::move(kept);
     s = Solve(used, board, options.model, *size);
     rms = ViewRms(s, used, board);
   } else {
+    // Too few views would be left: the first solution stands, with every view.
     dropped.clear();
+    corners_dropped.clear();
   }
   // The verdicts per view, and the RMS over every corner used.
   double sum = 0.0;
@@ -243,6 +280,7 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
     }
     v.used = true;
     v.rms_px = rms[it - used.begin()];
+    if (const auto c = corners_dropped.find(v.frame); c != corners_dropped.end()) v.corners_dropped = c->second;
     sum += v.rms_px * v.rms_px * it->ids.size();
     corners += static_cast<int>(it->ids.size());
   }

@@ -10,8 +10,9 @@
 //      how it is tilted (not 300 copies of one pose).
 //   4. Calibration: OpenCV's calibrateCamera (fisheye::calibrate for equidistant; fov starts from
 //      the equidistant solution) as the start, then every parameter and pose refined by Ceres
-//      with dsm's own camera model (refine.h). Views whose reprojection RMS exceeds 3x the median
-//      (and 0.5 px) are dropped and the rest calibrated again, once.
+//      with dsm's own camera model (refine.h). Corners whose reprojection error exceeds 5x the
+//      median corner's (and 0.25 px), then views whose RMS exceeds 3x the median view's (and
+//      0.5 px) or that keep too few corners, are dropped and the rest calibrated again, once.
 //   5. What it says: the RMS per view and overall, the cells of a 3x3 grid over the image that no
 //      corner covered, and the parameters whose standard deviation (from the covariance at the
 //      solution) is large (focal lengths over 0.5%, the principal point over 5 px).
@@ -38,6 +39,7 @@ struct CalibrationView {
   int frame = -1;        // Index among the input's frames.
   int corners = 0;       // Of the board's inner corners, found.
   double rms_px = 0.0;   // Reprojection RMS of its corners at the solution (0: not used).
+  int corners_dropped = 0;  // Of its corners, outliers left out.
   bool used = false;     // Calibrated with (else: not picked, or dropped as an outlier).
   std::string why_not;   // When not used.
 };

@@ -33,17 +33,17 @@ void ExpectFound(CameraModel model, const BoardSpec& board = kBoard) {
   EXPECT_NEAR(r.camera.fy, truth.fy, 0.003 * truth.fy);
   EXPECT_NEAR(r.camera.cx, truth.cx, 1.0);
   EXPECT_NEAR(r.camera.cy, truth.cy, 1.0);
-  EXPECT_LT(r.rms_px, 0.2);
+  EXPECT_LT(r.rms_px, 0.05);  // The acceptance asks for 0.2 px: symmetry-refined corners reach 0.02-0.03.
   EXPECT_GE(r.views_used, kMinViews);
   ASSERT_EQ(r.camera.distortion.size(), truth.distortion.size());
   std::string uncovered;
   for (const std::string& cell : r.uncovered) uncovered += cell + " ";
   std::printf("  no corner in: %s\n", uncovered.c_str());
   // The model maps the image as the truth does where the views' corners reach (the image's corners
-  // stay out of reach of a whole board seen by a wide lens): every ray within 0.2 px; 0.4 px from
+  // stay out of reach of a whole board seen by a wide lens): every ray within 0.1 px; 0.2 px from
   // a ChArUco board, whose corners are fewer and refined in smaller windows (short of its
-  // markers), with 1.7 times a checkerboard's reprojection RMS.
-  const double ray_px = board.kind == BoardKind::kCharuco ? 0.4 : 0.2;
+  // markers).
+  const double ray_px = board.kind == BoardKind::kCharuco ? 0.2 : 0.1;
   for (int y = 72; y <= 408; y += 48)
     for (int x = 96; x <= 544; x += 64) {
       Eigen::Vector2d n;

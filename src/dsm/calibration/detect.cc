@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "dsm/calibration/charuco.h"
+#include "dsm/calibration/corner_symmetry.h"
 #include "dsm/util/median.h"
 
 namespace dsm {
@@ -56,14 +57,16 @@ std::array<double, 5> Place(const std::vector<cv::Point2f>& c, const BoardSpec& 
           std::log(top / bottom), std::log(left / right)};
 }
 
-// cornerSubPix where the image's gradients are orthogonal to the rays from the corner, in a window
-// a third of the corners' spacing, and short of a ChArUco board's markers (5x5 to 17x17 px).
+// cornerSubPix where the image's gradients are orthogonal to the rays from the corner, then the
+// corner's point symmetry (corner_symmetry.h), in a window a third of the corners' spacing, and
+// short of a ChArUco board's markers (a radius of 2 to 8 px).
 void RefineCorners(const cv::Mat& grey, const BoardSpec& board, BoardDetection* d) {
   const double spacing = Spacing(*d, board);
   const double reach = std::min(spacing / 3.0, 0.9 * board.MarkerMargin() * spacing);
   const int half = std::clamp(static_cast<int>(reach), 2, 8);
   cv::cornerSubPix(grey, d->corners, cv::Size(half, half), cv::Size(-1, -1),
                    cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-4));
+  RefineBySymmetry(grey, half, &d->corners);
 }
 
 float Bilinear(const cv::Mat& grey, cv::Point2f p) {

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
 // A calibration board (board.h) found in one frame:
 //   checkerboard: OpenCV's sector-based detector (findChessboardCornersSB, the whole board or
-//     nothing), its corners refined by cornerSubPix in a window a third of the corners' spacing
-//     (unbiased by the board's tilt, as the corner's edges stay straight lines through it);
-//     sharpness from estimateChessboardSharpness;
+//     nothing); sharpness from estimateChessboardSharpness;
 //   ChArUco: the ArUco markers (detectMarkers), the inner corners between them
-//     (interpolateCornersCharuco: cornerSubPix in windows that stop short of the markers), any
-//     part of the board with at least kMinCorners corners not all on one line; sharpness from
-//     the profile across each edge between two neighbouring corners found (ChArUcoEdgeWidth).
+//     (interpolateCornersCharuco), any part of the board with at least kMinCorners corners not all
+//     on one line; sharpness from the profile across each edge between two neighbouring corners
+//     found (ChArUcoEdgeWidth).
+// Either board's corners are refined by cornerSubPix and then by their point symmetry
+// (corner_symmetry.h) in a window a third of the corners' spacing and short of a ChArUco board's
+// markers (unbiased by the board's tilt, as the corner's edges stay straight lines through it).
 // Sharpness is the median width of the board's edges in pixels: the rise from dark to light over
 // the steepest step, contrast / largest gradient (a Gaussian blur of sigma s widens it by 2.5 s).
 #pragma once

@@ -28,6 +28,34 @@ double WorstCornerPx(const BoardDetection& d, const BoardSpec& board, const Came
   return worst;
 }
 
+// The corners' error over many views, lens by lens: refined by their symmetry (corner_symmetry.h)
+// they lie within 0.03 px RMS of the truth (cornerSubPix alone: 0.066 px on these renderings,
+// whatever the noise: its error follows where the sharp edges cross the pixels).
+TEST(DetectBoard, CornersAreFoundToHundredthsOfAPixel) {
+  const BoardSpec board = BoardSpec::Parse("checkerboard:9x6:0.04", "test");
+  const std::vector<Eigen::Vector3d> all = board.Corners();
+  for (const CameraModel model : {CameraModel::kPinhole, CameraModel::kRadTan}) {
+    const CameraCalibration camera = ExampleCamera(model);
+    const BoardRenderer renderer(camera);
+    double sum = 0.0;
+    int corners = 0;
+    for (const SE3d& view : BoardViews(camera, board, 8, 3)) {
+      const std::optional<BoardDetection> d = DetectBoard(Gray8View(renderer.Render(board, view, 1.0, 5)), board);
+      ASSERT_TRUE(d.has_value());
+      // A checkerboard's corners are numbered from either end: the numbering that fits.
+      const bool half_turn = WorstCornerPx(*d, board, camera, view, true) < WorstCornerPx(*d, board, camera, view);
+      for (size_t i = 0; i < d->ids.size(); ++i) {
+        const int id = half_turn ? board.NumCorners() - 1 - d->ids[i] : d->ids[i];
+        sum += (camera.Project(view * all[id]) - Eigen::Vector2d(d->corners[i].x, d->corners[i].y)).squaredNorm();
+        ++corners;
+      }
+    }
+    const double rms = std::sqrt(sum / corners);
+    std::printf("%s: %d corners within %.4f px RMS\n", CameraModelName(model).c_str(), corners, rms);
+    EXPECT_LT(rms, 0.03) << CameraModelName(model);
+  }
+}
+
 TEST(DetectBoard, FindsEveryCornerWhereTheCameraSeesIt) {
   const CameraCalibration camera = ExampleCamera(CameraModel::kPinhole);
   const BoardRenderer renderer(camera);

@@ -119,6 +119,74 @@ TEST(Renderer, DepthOfAKnownWall) {
   EXPECT_GT(albedo(31, 23), 0.f);
 }
 
+// Each lens sees what the pinhole of its focal length sees, moved by its distortion: every pixel of
+// the lens image whose ray falls inside the pinhole's image is found there at the same depth with
+// the same brightness (the texture filter differs a little: the pixels span other angles), and the
+// wide models see beyond the pinhole's field.
+class EveryLens : public ::testing::TestWithParam<CameraModel> {};
+
+TEST_P(EveryLens, SeesThePinholesSceneThroughItsDistortion) {
+  SynthOptions options;
+  options.scene = "orbit";  // A pillar and a table close by: culling errors would show as holes.
+  options.width = 320;
+  options.height = 240;
+  const SynthSequence pinhole = MakeSequence(options);
+  options.model = GetParam();
+  const SynthSequence lensed = MakeSequence(options);
+  ASSERT_TRUE(lensed.lens != nullptr);
+  EXPECT_EQ(lensed.lens->camera().model, GetParam());
+  for (const size_t i : {size_t{0}, size_t{150}}) {
+    Image<float> albedo_p, depth_p, albedo_l, depth_l;
+    RenderFrame(pinhole.scene, pinhole.camera, pinhole.world_from_cam[i], &albedo_p, &depth_p);
+    RenderSequenceAlbedo(lensed, i, &albedo_l, &depth_l);
+    size_t inside = 0, same_depth = 0, same_albedo = 0, outside = 0;
+    for (int v = 0; v < lensed.camera.height; ++v)
+      for (int u = 0; u < lensed.camera.width; ++u) {
+        Eigen::Vector2d n;
+        ASSERT_TRUE(lensed.lens->camera().Unproject({double(u), double(v)}, &n));
+        ASSERT_GT(depth_l(u, v), 0.f) << u << ", " << v;  // A closed room: every ray hits.
+        const Eigen::Vector2d px = pinhole.camera.Project({n.x(), n.y(), 1.0});
+        if (!albedo_p.InBounds(px.x(), px.y(), 1.0)) {
+          ++outside;
+          continue;
+        }
+        ++inside;
+        const int pu = static_cast<int>(std::lround(px.x())), pv = static_cast<int>(std::lround(px.y()));
+        same_depth += std::abs(depth_p(pu, pv) - depth_l(u, v)) < 0.01f * depth_l(u, v);
+        same_albedo += std::abs(Bilinear(albedo_p, px.x(), px.y()) - albedo_l(u, v)) < 0.03f;
+      }
+    EXPECT_GT(inside, 0.5 * lensed.camera.width * lensed.camera.height);
+    EXPECT_GT(same_depth, 0.98 * inside) << i;
+    EXPECT_GT(same_albedo, 0.9 * inside) << i;
+    EXPECT_GT(outside, 0.05 * lensed.camera.width * lensed.camera.height) << i;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Synth, EveryLens,
+                         ::testing::Values(CameraModel::kRadTan, CameraModel::kEquidistant, CameraModel::kFov),
+                         [](const auto& info) { return CameraModelName(info.param); });
+
+TEST(Renderer, APinholeLensIsThePinhole) {
+  SynthOptions options;
+  options.scene = "orbit";
+  options.width = 160;
+  options.height = 120;
+  const SynthSequence seq = MakeSequence(options);
+  const PinholeCamera& c = seq.camera;
+  const LensRays lens(CameraCalibration{CameraModel::kPinhole, c.width, c.height, c.fx, c.fy, c.cx, c.cy, {}});
+  Image<float> albedo_p, depth_p, albedo_l, depth_l;
+  RenderFrame(seq.scene, c, seq.world_from_cam[40], &albedo_p, &depth_p);
+  RenderFrame(seq.scene, lens, seq.world_from_cam[40], &albedo_l, &depth_l);
+  double worst_depth = 0.0, mean_albedo = 0.0;
+  for (int v = 0; v < c.height; ++v)
+    for (int u = 0; u < c.width; ++u) {
+      worst_depth = std::max(worst_depth, std::abs(double(depth_p(u, v)) - depth_l(u, v)) / depth_p(u, v));
+      mean_albedo += std::abs(albedo_p(u, v) - albedo_l(u, v)) / (c.width * c.height);
+    }
+  EXPECT_LT(worst_depth, 1e-4);
+  EXPECT_LT(mean_albedo, 0.005);
+}
+
 TEST(Scene, PlainPillarsKeepATenthOfTheirContrast) {
   // A pillar from the floor to 3 m and a stool of 0.5 m; a camera sees each from 1 m.
   Scene scene;

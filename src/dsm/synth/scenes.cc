@@ -298,6 +298,13 @@ SynthSequence MakeSequence(const SynthOptions& options) {
   seq.camera.fx = seq.camera.fy = 0.6 * options.width;
   seq.camera.cx = 0.5 * (options.width - 1);
   seq.camera.cy = 0.5 * (options.height - 1);
+  if (options.model != CameraModel::kPinhole) {
+    const PinholeCamera& c = seq.camera;
+    const CameraCalibration lens{options.model, c.width, c.height, c.fx, c.fy, c.cx, c.cy,
+                                 TypicalDistortion(options.model)};
+    lens.Validate("--model");
+    seq.lens = std::make_shared<const LensRays>(lens);
+  }
 
   if (name == "forward" || name == "uturn") {
     Corridor(rng, &seq.scene);

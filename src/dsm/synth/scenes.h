@@ -22,6 +22,9 @@
 //   swing     two laps walked around the furnished room facing the way it goes, while the
 //             exposure time swings +-40% and the gain +-10% (the gain not in the recording)
 //
+// Each scene can be seen through any camera model's lens (SynthOptions::model): the same focal
+// length and principal point, and the model's TypicalDistortion.
+//
 // With a rolling shutter (line_delay_us > 0) each image row is seen at its own time: row v of
 // frame i at t_i + v * line_delay, the frame's timestamp t_i being its first row's, and its
 // ground truth pose the camera's then.
@@ -29,11 +32,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "dsm/geometry/camera.h"
 #include "dsm/lie/se3.h"
+#include "dsm/synth/lens_rays.h"
 #include "dsm/synth/scene.h"
 
 namespace dsm::synth {
@@ -53,6 +58,9 @@ struct SynthOptions {
   bool turned_textures = false;  // Textures that do not repeat along the surfaces (Texture::turned).
   bool plain_pillars = false;    // Floor-to-ceiling cylinders without texture (Scene::PlainPillars).
   double line_delay_us = 0.0;    // Rolling shutter: the time between two rows' exposures (0: global).
+  // The lens: a pinhole, or the pinhole's focal length and principal point with the model's
+  // TypicalDistortion (the images are rendered through it, camera.yaml gives it).
+  CameraModel model = CameraModel::kPinhole;
 
   void Validate() const;  // Throws InputError naming the option.
 };
@@ -71,7 +79,8 @@ struct Photometry {
 
 struct SynthSequence {
   Scene scene;
-  PinholeCamera camera;
+  PinholeCamera camera;                  // The focal length and principal point.
+  std::shared_ptr<const LensRays> lens;  // Null for a pinhole; else the lens, on top of `camera`.
   std::vector<int64_t> t_ns;
   std::vector<SE3d> world_from_cam;  // At t_ns (pose_at(i)).
   std::vector<Photometry> photometry;

@@ -25,8 +25,9 @@ WriteSummary WriteSequence(const SynthSequence& seq, const SynthOptions& options
   if (options.depth) fs::create_directories(out / "depth", ec);
 
   CameraYaml cam;
-  cam.camera = {CameraModel::kPinhole, seq.camera.width, seq.camera.height, seq.camera.fx, seq.camera.fy,
-                seq.camera.cx, seq.camera.cy, {}};
+  cam.camera = seq.lens ? seq.lens->camera()
+                        : CameraCalibration{CameraModel::kPinhole, seq.camera.width, seq.camera.height, seq.camera.fx,
+                                            seq.camera.fy, seq.camera.cx, seq.camera.cy, {}};
   cam.rate_hz = options.rate_hz;
   cam.line_delay_us = options.line_delay_us;
   WriteCameraYaml(out / "camera.yaml", cam);
@@ -58,13 +59,7 @@ WriteSummary WriteSequence(const SynthSequence& seq, const SynthOptions& options
       const size_t i = kept[j];
       Image<float> albedo, depth;
       const auto t0 = std::chrono::steady_clock::now();
-      if (seq.line_delay_frames > 0.0) {
-        RenderRollingShutterFrame(seq.scene, seq.camera, seq.RowPoses(i), &albedo, options.depth ? &depth : nullptr,
-                                  /*parallel=*/false);
-      } else {
-        RenderFrame(seq.scene, seq.camera, seq.world_from_cam[i], &albedo, options.depth ? &depth : nullptr,
-                    /*parallel=*/false);
-      }
+      RenderSequenceAlbedo(seq, i, &albedo, options.depth ? &depth : nullptr, /*parallel=*/false);
       render_ms[j] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       FormationOptions formation;
       formation.noise_sigma = options.noise_sigma;
