@@ -64,21 +64,31 @@ Eigen::Matrix3d Rotation(double rx, double ry, double rz) {
       .toRotationMatrix();
 }
 
-// Whether every inner corner and the board's outer corners project inside the image, 8 px in.
+// Whether the board is in view as a person calibrating holds it: a checkerboard whole (every inner
+// corner and the board's outer corners inside the image, 8 px in); a ChArUco board, which is found
+// in part, with two thirds of its inner corners inside (so that its corners reach the image's
+// edges and corners). Every point in front of the camera, and inside the image only where the
+// model maps it back.
 bool InView(const CameraCalibration& camera, const BoardSpec& board, const SE3d& cam_from_board) {
+  const bool part = board.kind == BoardKind::kCharuco;
   const Eigen::Vector4d e = board.Extent();
   std::vector<Eigen::Vector3d> points = board.Corners();
+  const size_t inner = points.size();
   for (int k = 0; k < 4; ++k) points.emplace_back(e[k & 1], e[2 + (k >> 1)], 0.0);
-  for (const Eigen::Vector3d& p : points) {
-    const Eigen::Vector3d c = cam_from_board * p;
+  size_t inner_inside = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d c = cam_from_board * points[i];
     if (c.z() < 0.05) return false;
     Eigen::Vector2d n;
     const Eigen::Vector2d px = camera.Project(c);
+    const bool inside = px.x() >= 8 && px.y() >= 8 && px.x() <= camera.width - 9 && px.y() <= camera.height - 9;
+    if (!inside && !part) return false;
+    if (!inside) continue;
     // A pixel the model projects to must also come back (the model is invertible there).
     if (!camera.Unproject(px, &n) || (n - c.head<2>() / c.z()).norm() > 1e-6) return false;
-    if (px.x() < 8 || px.y() < 8 || px.x() > camera.width - 9 || px.y() > camera.height - 9) return false;
+    if (i < inner) ++inner_inside;
   }
-  return true;
+  return 3 * inner_inside >= 2 * inner;
 }
 
 }  // namespace

@@ -36,8 +36,9 @@ class BoardRenderer {
 };
 
 // `count` views of the board as a person calibrating takes them: the board 0.35..0.75 of the
-// image's width across, its centre anywhere in the image (its corners within it), tilted up to
-// 45 deg about both of its axes and turned up to 20 deg in its plane. Deterministic in `seed`.
+// image's width across, its centre anywhere in the image (a checkerboard's corners all within it,
+// two thirds of a ChArUco board's), tilted up to 45 deg about both of its axes and turned up to
+// 20 deg in its plane. Deterministic in `seed`.
 std::vector<SE3d> BoardViews(const CameraCalibration& camera, const BoardSpec& board, int count, uint32_t seed);
 
 // A folder dataset (io/folder_dataset.h) of the views: images/, times.txt (10 Hz) and
