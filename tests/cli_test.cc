@@ -17,6 +17,7 @@
 #include "dsm/io/dataset.h"
 #include "dsm/io/euroc_copy.h"
 #include "dsm/io/trajectory_io.h"
+#include "dsm/synth/lens_rays.h"
 #include "dsm/testing/test_data.h"
 #include "dsm/util/check.h"
 
@@ -131,6 +132,16 @@ TEST(Cli, SynthOutputIsADatasetThatInfoReads) {
   const Result info = RunDsm("info " + (dir / "seq").string());
   EXPECT_EQ(info.code, 0);
   EXPECT_TRUE(Contains(info.output, "frames:       5"));
+  // Through a lens: camera.yaml gives it, the scene's focal length with the model's distortion.
+  ASSERT_EQ(RunDsm("synth --scene shake --model fov --frames 2 --width 160 --height 120 --out " +
+                   (dir / "fov").string()).code, 0);
+  const Dataset fov = OpenDataset(dir / "fov");
+  EXPECT_EQ(fov.camera.model, CameraModel::kFov);
+  EXPECT_DOUBLE_EQ(fov.camera.fx, 0.6 * 160);
+  EXPECT_EQ(fov.camera.distortion, synth::TypicalDistortion(CameraModel::kFov));
+  const Result unknown = RunDsm("synth --scene shake --model fisheye2 --out " + (dir / "x").string());
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_TRUE(Contains(unknown.output, "--model")) << unknown.output;
 }
 
 // dsm synth --board renders views of a checkerboard and of a ChArUco board whose camera.yaml is the
