@@ -12,7 +12,6 @@
 #include "dsm/io/calibration_io.h"
 #include "dsm/io/dataset.h"
 #include "dsm/io/folder_dataset.h"
-#include "dsm/synth/lens_rays.h"
 #include "dsm/io/image_io.h"
 #include "dsm/synth/renderer.h"
 #include "dsm/synth/scenes.h"

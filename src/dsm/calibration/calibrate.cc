@@ -2,10 +2,10 @@
 #include "dsm/calibration/calibrate.h"
 
 #include <algorithm>
-#include <map>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -235,39 +235,39 @@ CalibrationResult Calibrate(const fs::path& input, const CalibrationOptions& opt
   // interpolation misplaced by a pixel or two), then views whose RMS is far above the others'.
   // Calibrated again without them, once.
   std::map<int, int> corners_dropped;  // By frame.
+  std::vector<BoardDetection> trimmed = used;
   {
     const std::vector<std::vector<double>> residuals = CornerResiduals(s, used, board);
     std::vector<double> all;
     for (const auto& r : residuals) all.insert(all.end(), r.begin(), r.end());
     const double corner_limit = std::max(kMinCornerOutlierPx, 5.0 * Median(all));
     for (size_t v = 0; v < used.size(); ++v) {
-      BoardDetection kept;
+      BoardDetection& t = trimmed[v];
+      t.ids.clear();
+      t.corners.clear();
       for (size_t i = 0; i < used[v].ids.size(); ++i)
-        if (residuals[v][i] <= corner_limit) kept.ids.push_back(used[v].ids[i]), kept.corners.push_back(used[v].corners[i]);
-      const int dropped = static_cast<int>(used[v].ids.size() - kept.ids.size());
-      if (dropped == 0) continue;
-      corners_dropped[used[v].frame] = dropped;
-      used[v].ids = std::move(kept.ids);
-      used[v].corners = std::move(kept.corners);
+        if (residuals[v][i] <= corner_limit) t.ids.push_back(used[v].ids[i]), t.corners.push_back(used[v].corners[i]);
+      if (t.ids.size() < used[v].ids.size())
+        corners_dropped[used[v].frame] = static_cast<int>(used[v].ids.size() - t.ids.size());
     }
   }
-  std::vector<double> rms = ViewRms(s, used, board);
+  std::vector<double> rms = ViewRms(s, trimmed, board);
   const double limit = std::max(0.5, 3.0 * Median(rms));
   std::vector<BoardDetection> kept;
   std::vector<int> dropped;
-  for (size_t v = 0; v < used.size(); ++v) {
-    const bool whole = static_cast<int>(used[v].ids.size()) >= kMinCorners;
-    (whole && rms[v] <= limit ? kept.push_back(used[v]) : dropped.push_back(used[v].frame));
+  for (size_t v = 0; v < trimmed.size(); ++v) {
+    const bool enough_corners = static_cast<int>(trimmed[v].ids.size()) >= kMinCorners;
+    (enough_corners && rms[v] <= limit ? kept.push_back(trimmed[v]) : dropped.push_back(trimmed[v].frame));
   }
   if ((!dropped.empty() || !corners_dropped.empty()) && static_cast<int>(kept.size()) >= kMinViews) {
     used = std::move(kept);
     s = Solve(used, board, options.model, *size);
-    rms = ViewRms(s, used, board);
   } else {
-    // Too few views would be left: the first solution stands, with every view.
+    // Too few views would be left: the first solution stands, with every view and corner.
     dropped.clear();
     corners_dropped.clear();
   }
+  rms = ViewRms(s, used, board);
   // The verdicts per view, and the RMS over every corner used.
   double sum = 0.0;
   int corners = 0;

@@ -32,6 +32,7 @@ class PinholeRays {
         cx_(static_cast<float>(cam.cx)),
         cy_(static_cast<float>(cam.cy)) {}
   int width() const { return cam_.width; }
+  int height() const { return cam_.height; }
   bool Cone(int u0, int v0, int u1, int v1, std::array<Eigen::Vector3f, 4>* corners) const {
     const auto ray = [&](double u, double v) {
       return Eigen::Vector3f(static_cast<float>((u - cam_.cx) / cam_.fx), static_cast<float>((v - cam_.cy) / cam_.fy),
@@ -57,6 +58,7 @@ class TableRays {
  public:
   explicit TableRays(const LensRays& lens) : lens_(lens) {}
   int width() const { return lens_.width(); }
+  int height() const { return lens_.height(); }
   bool Cone(int u0, int v0, int u1, int v1, std::array<Eigen::Vector3f, 4>* corners) const {
     return lens_.Cone(u0, v0, u1, v1, corners);
   }
@@ -139,8 +141,9 @@ namespace {
 // The frame in bands of `band_rows` rows, band b (rows from v0 = b * band_rows) seen from
 // pose_of(v0).
 template <typename Rays, typename PoseOf>
-void RenderInBands(const Scene& scene, const Rays& rays, int width, int height, int band_rows, const PoseOf& pose_of,
-                   Image<float>* albedo, Image<float>* depth, bool parallel) {
+void RenderInBands(const Scene& scene, const Rays& rays, int band_rows, const PoseOf& pose_of, Image<float>* albedo,
+                   Image<float>* depth, bool parallel) {
+  const int width = rays.width(), height = rays.height();
   *albedo = Image<float>(width, height);
   if (depth) *depth = Image<float>(width, height);
   const int bands = (height + band_rows - 1) / band_rows;
@@ -159,26 +162,26 @@ void RenderInBands(const Scene& scene, const Rays& rays, int width, int height, 
 
 void RenderFrame(const Scene& scene, const PinholeCamera& camera, const SE3d& world_from_cam, Image<float>* albedo,
                  Image<float>* depth, bool parallel) {
-  RenderInBands(scene, PinholeRays(camera), camera.width, camera.height, kTile,
+  RenderInBands(scene, PinholeRays(camera), kTile,
                 [&](int) -> const SE3d& { return world_from_cam; }, albedo, depth, parallel);
 }
 
 void RenderRollingShutterFrame(const Scene& scene, const PinholeCamera& camera,
                                const std::vector<SE3d>& row_world_from_cam, Image<float>* albedo, Image<float>* depth,
                                bool parallel) {
-  RenderInBands(scene, PinholeRays(camera), camera.width, camera.height, 1,
+  RenderInBands(scene, PinholeRays(camera), 1,
                 [&](int v) -> const SE3d& { return row_world_from_cam[v]; }, albedo, depth, parallel);
 }
 
 void RenderFrame(const Scene& scene, const LensRays& lens, const SE3d& world_from_cam, Image<float>* albedo,
                  Image<float>* depth, bool parallel) {
-  RenderInBands(scene, TableRays(lens), lens.width(), lens.height(), kTile,
+  RenderInBands(scene, TableRays(lens), kTile,
                 [&](int) -> const SE3d& { return world_from_cam; }, albedo, depth, parallel);
 }
 
 void RenderRollingShutterFrame(const Scene& scene, const LensRays& lens, const std::vector<SE3d>& row_world_from_cam,
                                Image<float>* albedo, Image<float>* depth, bool parallel) {
-  RenderInBands(scene, TableRays(lens), lens.width(), lens.height(), 1,
+  RenderInBands(scene, TableRays(lens), 1,
                 [&](int v) -> const SE3d& { return row_world_from_cam[v]; }, albedo, depth, parallel);
 }
 

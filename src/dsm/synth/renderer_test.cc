@@ -173,7 +173,7 @@ TEST(Renderer, APinholeLensIsThePinhole) {
   options.height = 120;
   const SynthSequence seq = MakeSequence(options);
   const PinholeCamera& c = seq.camera;
-  const LensRays lens(CameraCalibration{CameraModel::kPinhole, c.width, c.height, c.fx, c.fy, c.cx, c.cy, {}});
+  const LensRays lens(seq.Calibration());
   Image<float> albedo_p, depth_p, albedo_l, depth_l;
   RenderFrame(seq.scene, c, seq.world_from_cam[40], &albedo_p, &depth_p);
   RenderFrame(seq.scene, lens, seq.world_from_cam[40], &albedo_l, &depth_l);

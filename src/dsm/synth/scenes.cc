@@ -287,6 +287,11 @@ std::vector<SE3d> SynthSequence::RowPoses(size_t i) const {
   return rows;
 }
 
+CameraCalibration SynthSequence::Calibration() const {
+  if (lens) return lens->camera();
+  return {CameraModel::kPinhole, camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy, {}};
+}
+
 SynthSequence MakeSequence(const SynthOptions& options) {
   options.Validate();
   SynthSequence seq;
@@ -299,9 +304,9 @@ SynthSequence MakeSequence(const SynthOptions& options) {
   seq.camera.cx = 0.5 * (options.width - 1);
   seq.camera.cy = 0.5 * (options.height - 1);
   if (options.model != CameraModel::kPinhole) {
-    const PinholeCamera& c = seq.camera;
-    const CameraCalibration lens{options.model, c.width, c.height, c.fx, c.fy, c.cx, c.cy,
-                                 TypicalDistortion(options.model)};
+    CameraCalibration lens = seq.Calibration();
+    lens.model = options.model;
+    lens.distortion = TypicalDistortion(options.model);
     lens.Validate("--model");
     seq.lens = std::make_shared<const LensRays>(lens);
   }

@@ -90,6 +90,8 @@ struct SynthSequence {
   size_t size() const { return world_from_cam.size(); }
   // Frame i's camera at each row's exposure (row v at i + v * line_delay_frames).
   std::vector<SE3d> RowPoses(size_t i) const;
+  // The camera as camera.yaml gives it: the lens's, or the pinhole's.
+  CameraCalibration Calibration() const;
 };
 
 SynthSequence MakeSequence(const SynthOptions& options);

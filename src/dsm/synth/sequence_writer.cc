@@ -25,9 +25,7 @@ WriteSummary WriteSequence(const SynthSequence& seq, const SynthOptions& options
   if (options.depth) fs::create_directories(out / "depth", ec);
 
   CameraYaml cam;
-  cam.camera = seq.lens ? seq.lens->camera()
-                        : CameraCalibration{CameraModel::kPinhole, seq.camera.width, seq.camera.height, seq.camera.fx,
-                                            seq.camera.fy, seq.camera.cx, seq.camera.cy, {}};
+  cam.camera = seq.Calibration();
   cam.rate_hz = options.rate_hz;
   cam.line_delay_us = options.line_delay_us;
   WriteCameraYaml(out / "camera.yaml", cam);
