@@ -164,7 +164,7 @@ TEST_P(EveryLens, SeesThePinholesSceneThroughItsDistortion) {
 
 INSTANTIATE_TEST_SUITE_P(Synth, EveryLens,
                          ::testing::Values(CameraModel::kRadTan, CameraModel::kEquidistant, CameraModel::kFov),
-                         [](const auto& info) { return CameraModelName(info.param); });
+                         [](const ::testing::TestParamInfo<CameraModel>& p) { return CameraModelName(p.param); });
 
 TEST(Renderer, APinholeLensIsThePinhole) {
   SynthOptions options;
