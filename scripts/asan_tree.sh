@@ -2,7 +2,7 @@
 # clang with AddressSanitizer + UndefinedBehaviorSanitizer; the readers' libraries also carry
 # libFuzzer's coverage instrumentation (fuzz/CMakeLists.txt), so that the same objects link into
 # the unit tests, dsm and the fuzzers.
-#   asan_configure          installs clang and its runtime when missing, configures $ASAN_DIR
+#   asan_configure          installs clang and its runtime when missing, (re)configures $ASAN_DIR
 #   asan_build TARGET...    builds those targets
 ASAN_DIR="${DSM_ASAN_DIR:-build-asan}"
 ASAN_JOBS="${DSM_JOBS:-$(nproc)}"
@@ -15,11 +15,11 @@ asan_configure() {
     echo "sanitize: $ASAN_DIR is another kind of tree (g++ or no fuzzers); starting it afresh"
     rm -rf "$ASAN_DIR"
   fi
-  if [ ! -f "$ASAN_DIR/build.ninja" ]; then
-    CC=clang CXX=clang++ cmake -S . -B "$ASAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" \
-      -DDSM_SANITIZE=address,undefined -DDSM_FUZZ=ON -DDSM_BUILD_BENCHMARKS=OFF >/dev/null
-  fi
+  # Configured every time, also a tree that exists: the test list read from it must include tests
+  # added since it was last built.
+  CC=clang CXX=clang++ cmake -S . -B "$ASAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" \
+    -DDSM_SANITIZE=address,undefined -DDSM_FUZZ=ON -DDSM_BUILD_BENCHMARKS=OFF >/dev/null
 }
 
 asan_build() {
