@@ -25,7 +25,7 @@ struct CalibrateArgs {
 // --line-delay: the rolling shutter's line delay of the camera that recorded INPUT
 // (run/line_delay_estimate.h), written with its calibration.
 int CalibrateLineDelay(const CalibrateArgs& a) {
-  VideoArgs video;
+  InputArgs video;
   video.calib = a.calib;
   Dataset dataset = OpenInput(a.input, GtArgs{}, video);
   dataset.line_delay_us = 0.0;

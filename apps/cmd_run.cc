@@ -31,7 +31,7 @@ struct RunArgs {
   std::string camera, record;
   double duration = 0.0, stall_timeout = 5.0;
   GtArgs gt;
-  VideoArgs video;
+  InputArgs video;
 };
 
 // The run's options from the command line (--print-config: the system's options alone).
@@ -200,7 +200,7 @@ Command AddRun(CLI::App& app) {
   app.add_option("--stall-timeout", a->stall_timeout,
                  "--camera: a stream that sends no frame for this many seconds has ended (default 5)");
   AddGtOptions(app, &a->gt);
-  AddVideoOptions(app, &a->video);
+  AddInputOptions(app, &a->video);
   return [a] {
     const RunOptions options = OptionsFrom(*a);
     if (a->print_config) {

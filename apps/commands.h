@@ -4,9 +4,12 @@
 #pragma once
 
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "dsm/bag/bag_dataset.h"
 #include "dsm/io/dataset.h"
 
 namespace dsm::cli {
@@ -31,14 +34,20 @@ struct GtArgs {
 };
 void AddGtOptions(CLI::App& app, GtArgs* args);
 
-// --calib / --groundtruth / --time-offset: a video file as the dataset (io/video_dataset.h).
-struct VideoArgs {
+// What a video file or a recording needs besides its path:
+//   video      --calib, --groundtruth, --time-offset (io/video_dataset.h)
+//   recording  --topic, --calib, --gt-topic, --gt-frames (bag/bag_dataset.h)
+struct InputArgs {
   std::string calib, ground_truth;
   double time_offset_s = 0.0;
+  std::string topic, gt_topic;
+  std::vector<std::string> gt_frames;
 };
-void AddVideoOptions(CLI::App& app, VideoArgs* args);
-// A dataset folder, or a video file (by its name's ending) with VideoArgs; throws InputError when
-// the video options are given for a folder.
-Dataset OpenInput(const std::string& path, const GtArgs& gt, const VideoArgs& video);
+void AddInputOptions(CLI::App& app, InputArgs* args);
+// A recording's options (bag/bag_dataset.h).
+BagInput BagInputFrom(const InputArgs& args, const GtArgs& gt);
+// A dataset folder, a video file or a recording (by its name), with InputArgs; throws InputError
+// when an option is given for an input it does not apply to.
+Dataset OpenInput(const std::string& path, const GtArgs& gt, const InputArgs& video);
 
 }  // namespace dsm::cli

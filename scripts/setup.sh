@@ -16,6 +16,7 @@ BUILD_PACKAGES=(
   libeigen3-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-features2d-dev libopencv-calib3d-dev libopencv-video-dev libopencv-videoio-dev
   libopencv-contrib-dev                        # the aruco module: ChArUco boards (dsm calibrate)
+  librosbag-storage-dev                        # ROS 1 bags (bag/ros1_bag.h)
   libboost-dev libwebsocketpp-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev zlib1g-dev libceres-dev
   libgtest-dev libgmock-dev libbenchmark-dev   # found when the tree is configured
@@ -26,6 +27,8 @@ TEST_PACKAGES=(
   jq                                           # scripts/benchmark.sh, defects.sh, ablation.sh
   python3 python3-pytest python3-numpy ffmpeg  # Python tests (tests/python), video test input
   chromium                                     # the report page's browser test
+  python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-tf2-msgs
+                                               # ROS 1 bags written by ROS's own writer (tests/bags)
 )
 
 if (($#)); then

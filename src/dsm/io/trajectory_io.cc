@@ -41,10 +41,6 @@ TrajectoryFormat DetectTrajectoryFormat(const std::filesystem::path& path) {
   throw InputError(path.string() + ": the trajectory file has no poses");
 }
 
-namespace {
-
-// A rotation's quaternion, normalised when the pose is made: not zero, and not so large that its
-// norm overflows (a component of 1e154 squares to infinity, and normalising gives no rotation).
 void CheckQuaternion(const Eigen::Quaterniond& q, const std::string& where) {
   const double norm = q.norm();
   if (norm < 1e-6) throw InputError(where + ": the quaternion is zero");
@@ -52,8 +48,6 @@ void CheckQuaternion(const Eigen::Quaterniond& q, const std::string& where) {
     throw InputError(where + ": the quaternion's norm is implausible (" + std::to_string(norm) + ")");
   }
 }
-
-}  // namespace
 
 Trajectory ReadTrajectory(const std::filesystem::path& path, TrajectoryFormat format) {
   Trajectory traj;

@@ -21,6 +21,11 @@ std::string TrajectoryFormatName(TrajectoryFormat format);
 // From the first data line: commas -> euroc, 12 fields -> kitti, 8 fields -> tum.
 TrajectoryFormat DetectTrajectoryFormat(const std::filesystem::path& path);
 
+// A rotation's quaternion, normalised when the pose is made: throws InputError naming `where` when
+// it is zero, or so large that its norm overflows (a component of 1e154 squares to infinity, and
+// normalising gives no rotation).
+void CheckQuaternion(const Eigen::Quaterniond& q, const std::string& where);
+
 // Throws InputError naming the file and line on any malformed row, or when the file is empty.
 Trajectory ReadTrajectory(const std::filesystem::path& path, TrajectoryFormat format);
 

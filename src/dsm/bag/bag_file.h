@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+// A robot recording: messages on named topics, each of a ROS message type. Containers:
+//   ROS 1 bag    a `.bag` file (format 2.0; chunks uncompressed, bz2 or lz4), read with ROS 1's
+//                bag storage library; messages in the ROS 1 serialization
+// Message types are named the ROS 1 way ("sensor_msgs/Image"; ROS 2's "sensor_msgs/msg/Image"
+// is read as that). Opening reads the container's index, not its messages: the messages of a
+// topic are read one at a time, when asked for.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dsm/bag/wire.h"
+
+namespace dsm {
+
+struct BagTopic {
+  std::string name;
+  std::string type;  // "sensor_msgs/Image"
+  uint64_t count = 0;
+};
+
+class BagFile {
+ public:
+  virtual ~BagFile() = default;
+  const std::filesystem::path& path() const { return path_; }
+  // "ROS 1 bag", "MCAP", "ROS 2 bag (SQLite)", ...
+  virtual std::string Container() const = 0;
+  virtual WireFormat Wire() const = 0;
+  // Every topic with at least one message, sorted by name.
+  virtual std::vector<BagTopic> Topics() const = 0;
+  // The log (record) times of `topic`'s messages in nanoseconds, in the order the messages are
+  // numbered below (log time, then position in the file), from the index alone. Throws InputError
+  // naming the file and topic when the topic is not in the recording.
+  virtual std::vector<int64_t> LogTimes(const std::string& topic) const = 0;
+  // The serialized bytes of message `index` of `topic` (numbered as LogTimes); throws InputError
+  // naming the file and topic when it cannot be read (a damaged chunk, an index that points
+  // outside the file). Safe to call from several threads.
+  virtual std::vector<uint8_t> Read(const std::string& topic, size_t index) const = 0;
+
+  // The type of `topic`; throws InputError naming the file and the topics there are when it is
+  // not in the recording.
+  std::string TypeOf(const std::string& topic) const;
+
+ protected:
+  explicit BagFile(std::filesystem::path path) : path_(std::move(path)) {}
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Whether `path` is a recording OpenBagFile reads: a file ending in .bag.
+bool IsBagPath(const std::filesystem::path& path);
+
+// Opens the recording at `path`; throws InputError naming the file and what is wrong (not a bag,
+// truncated, an unsupported version or compression).
+std::unique_ptr<BagFile> OpenBagFile(const std::filesystem::path& path);
+
+// ROS 2's "pkg/msg/Type" as "pkg/Type"; other names unchanged.
+std::string RosTypeName(const std::string& type);
+
+}  // namespace dsm
