@@ -203,3 +203,30 @@ def test_shared_tf_bag_gives_the_chain_rosbag_reads(dsm_bin, tmp_path):
                 t, r = tf.transform.translation, tf.transform.rotation
                 expected.append((tf.header.stamp.to_nsec(), (t.x, t.y, t.z), (r.x, r.y, r.z, r.w)))
     assert_same_poses(out, sorted(expected, key=lambda r: r[0]))
+
+
+def test_shared_euroc_bags_run_as_its_folder(dsm_bin, tmp_path):
+    """The shared EuRoC recording as ROS 1 bags (lz4 and bz2 chunks): its frames as mono8 Images,
+    the body's poses of its ground truth as PoseStamped; with its sensor.yaml (T_BS) the runs give
+    the folder run's trajectories and evaluation byte for byte."""
+    euroc = SHARED_ROS.parent / "euroc_mh01_shake"
+    cam0 = euroc / "mav0" / "cam0"
+    rows = [line.split(",") for line in (cam0 / "data.csv").read_text().splitlines() if not line.startswith("#")]
+    stamps = [int(r[0]) for r in rows]
+    frames = rb.gray_frames([cam0 / "data" / r[1].strip() for r in rows], 752, 480)
+    messages = [("/cam0/image_raw", rb.image_message(f, "mono8", t), t) for f, t in zip(frames, stamps)]
+    gt_csv = euroc / "mav0" / "state_groundtruth_estimate0" / "data.csv"
+    for line in gt_csv.read_text().splitlines():
+        if line.startswith("#"):
+            continue
+        f = line.split(",")
+        t = int(f[0])
+        position, (w, x, y, z) = tuple(map(float, f[1:4])), tuple(map(float, f[4:8]))
+        messages.append(("/vicon/pose", rb.pose_message("PoseStamped", t, position, (x, y, z, w)), t))
+    reference = run_bag(dsm_bin, euroc, tmp_path / "folder")
+    for compression in ["lz4", "bz2"]:
+        bag = rb.write_bag(tmp_path / f"euroc_{compression}.bag", messages, compression)
+        run = run_bag(dsm_bin, bag, tmp_path / compression, "--calib", str(cam0 / "sensor.yaml"), "--gt-topic",
+                      "/vicon/pose")
+        assert_same_outputs(run, reference)
+        bag.unlink()

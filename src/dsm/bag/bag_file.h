@@ -36,9 +36,9 @@ class BagFile {
   // numbered below (log time, then position in the file), from the index alone. Throws InputError
   // naming the file and topic when the topic is not in the recording.
   virtual std::vector<int64_t> LogTimes(const std::string& topic) const = 0;
-  // The serialized bytes of message `index` of `topic` (numbered as LogTimes); throws InputError
-  // naming the file and topic when it cannot be read (a damaged chunk, an index that points
-  // outside the file). Safe to call from several threads.
+  // The serialized bytes of message `index` of `topic` (numbered as LogTimes); throws
+  // DamagedRecordingError (io/dataset.h) naming the file and topic when it cannot be read (a
+  // damaged chunk, an index that points outside the file). Safe to call from several threads.
   virtual std::vector<uint8_t> Read(const std::string& topic, size_t index) const = 0;
 
   // The type of `topic`; throws InputError naming the file and the topics there are when it is

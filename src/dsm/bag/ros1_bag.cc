@@ -7,6 +7,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include "dsm/io/dataset.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -60,7 +61,7 @@ class Ros1Bag : public BagFile {
       throw InputError(path().string() + ": topic " + topic + " has no message " + std::to_string(index));
     }
     std::vector<uint8_t> bytes;
-    Guard([&] {
+    Guard<DamagedRecordingError>([&] {
       const rosbag::MessageInstance& m = messages[index];
       bytes.resize(m.size());
       ros::serialization::OStream stream(bytes.data(), static_cast<uint32_t>(bytes.size()));
@@ -70,15 +71,15 @@ class Ros1Bag : public BagFile {
   }
 
  private:
-  // Runs `f`, turning the library's exceptions into InputError naming the file and `what`.
-  template <typename F>
+  // Runs `f`, turning the library's exceptions into an Error naming the file and `what`.
+  template <typename Error = InputError, typename F>
   void Guard(F&& f, const std::string& what) const {
     try {
       f();
     } catch (const InputError&) {
       throw;
     } catch (const std::exception& e) {
-      throw InputError(path().string() + what + ": cannot be read as a ROS 1 bag (" + e.what() + ")");
+      throw Error(path().string() + what + ": cannot be read as a ROS 1 bag (" + e.what() + ")");
     }
   }
 

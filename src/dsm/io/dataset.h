@@ -37,6 +37,14 @@ class ImageSizeError : public InputError {
   using InputError::InputError;
 };
 
+// A recording whose container is damaged where a frame is (a chunk that does not decompress, an
+// index that points outside the file): the frames after it cannot be trusted to come, so a run
+// stops there (with its outputs written) instead of skipping the frame.
+class DamagedRecordingError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 enum class LineDelaySource { kUnknown, kCalibration, kOption, kEstimated };
 std::string LineDelaySourceName(LineDelaySource source);  // unknown, calibration, option, estimated
 

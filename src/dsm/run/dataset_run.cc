@@ -322,6 +322,10 @@ void DatasetRun::FeedFrames() {
           dataset_.calibration_file.empty() ? dataset_.root.string() : dataset_.calibration_file.string();
       throw InputError(calibration + ": the calibration does not fit the recording: " + frame.error);
     }
+    if (frame.damaged) {
+      fed_.damaged_input = frame.error;
+      break;
+    }
     if (!frame.error.empty()) {
       // A bad file in a recording costs its frame, not the run.
       progress_.Event("dsm: warning: " + frame.error + "; frame " + std::to_string(i) + " skipped", stderr);
@@ -390,6 +394,10 @@ RunSummary DatasetRun::Finish() {
   WriteJson(out_dir_ / "stats.json", summary.stats);
   if (options_.write_report) WriteReport(out_dir_);
   if (!save_error.empty()) throw InputError(save_error + " (the run's other outputs are written)");
+  if (!fed_.damaged_input.empty()) {
+    throw InputError(fed_.damaged_input + " (the run stopped at frame " + std::to_string(fed_.last_frame) +
+                     "; its outputs up to there are written)");
+  }
   return summary;
 }
 

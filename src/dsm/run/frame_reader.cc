@@ -26,6 +26,9 @@ FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter
   } catch (const ImageSizeError& e) {
     out.error = e.what();
     out.size_mismatch = true;
+  } catch (const DamagedRecordingError& e) {
+    out.error = e.what();
+    out.damaged = true;
   } catch (const InputError& e) {
     out.error = e.what();
   }

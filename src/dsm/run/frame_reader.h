@@ -30,6 +30,7 @@ struct FrameOrError {
   Image<float> image;
   std::string error;  // Empty: `image` is the frame.
   bool size_mismatch = false;  // The error is an ImageSizeError (the frame decoded, at another size).
+  bool damaged = false;        // The error is a DamagedRecordingError (the run stops).
 };
 FrameOrError TryReadFrame(const Dataset& dataset, const Undistorter& undistorter, int i);
 // A frame of `dataset`'s camera ready for System::Process: photometrically corrected, undistorted.

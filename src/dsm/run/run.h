@@ -90,7 +90,9 @@ struct RunSummary {
 // Throws InputError for bad ranges or fewer than two frames. A frame whose file cannot be used is
 // skipped with a warning on stderr naming it (stats: frames_skipped, skipped_frames). After SIGINT /
 // SIGTERM (interrupt.h; the caller installs the handlers) the run stops after the current frame and
-// writes its outputs (stats: "interrupted": true).
+// writes its outputs (stats: "interrupted": true). A damaged recording (DamagedRecordingError)
+// stops the run at the frame it could not read: the outputs are written (stats: "damaged_input")
+// and then an InputError says where.
 RunSummary RunDataset(const Dataset& dataset, const RunOptions& options, const std::filesystem::path& out_dir);
 
 // A run on a live camera's frames as it captures them (io/live_camera.h), in the realtime pace,

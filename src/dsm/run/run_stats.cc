@@ -111,6 +111,7 @@ void AddFeedStats(const Dataset& dataset, int start, const FeedRecord& fed, cons
   j["frames_skipped"] = fed.skipped.size();
   j["skipped_frames"] = fed.skipped;
   j["interrupted"] = fed.interrupt_signal != 0;
+  if (!fed.damaged_input.empty()) j["damaged_input"] = fed.damaged_input;
   j["latency_ms"] = LatencyStats(fed.latency_ms);
   j["latency_final_ms"] = LatencyStats(fed.latency_final_ms);
   j["frames_posed_before_wait"] = fed.posed_before_wait;

@@ -25,6 +25,7 @@ struct FeedRecord {
   int dropped = 0;      // Realtime: frames superseded by a newer one while tracking was busy.
   std::vector<int> skipped;  // Frames whose file could not be used.
   int interrupt_signal = 0;  // The signal that stopped the run (interrupt.h), or 0.
+  std::string damaged_input;  // Why a damaged recording stopped the run (DamagedRecordingError), or empty.
   // Frame release to its first pose, and to the pose the run keeps.
   std::vector<double> latency_ms, latency_final_ms;
   int posed_before_wait = 0;  // Frames told their pose before they waited for a keyframe being mapped.
