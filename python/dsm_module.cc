@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Python bindings (pybind11): `import dsm`.
 //   dsm.run(dataset, out="dsm_out", **options) -> dict        as `dsm run`; returns stats.json
-//   dsm.read_dataset(path) -> Dataset                          frames ready for System.process
+//   dsm.read_dataset(path, topic=None, ...) -> Dataset         frames ready for System.process
+// A dataset is a folder or a recording (a .bag: `topic`, `calib`, `gt_topic`, `gt_frames` as
+// dsm run's --topic, --calib, --gt-topic, --gt-frames).
 //   dsm.System(camera, options=None, map=None, localize=False) the system facade, sequential, with
 //       its maps as `dsm run` has them (system/atlas.h): .process(t_ns, image) -> dict, .finish(),
 //       .keyframe_trajectory(map=0), .frame_trajectory(map=0), .map_points(map=0), .save_map(path)
@@ -9,6 +11,8 @@
 // points (N, 3) float64. Bad input raises dsm.InputError (a ValueError) with dsm's message.
 #include <map>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -16,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "dsm/bag/bag_dataset.h"
 #include "dsm/geometry/undistorter.h"
 #include "dsm/io/dataset.h"
 #include "dsm/config/option_registry.h"
@@ -96,9 +101,29 @@ py::array_t<float> ImageArray(const Image<float>& image) {
 }
 
 // A dataset with its undistorter: frame i as System.process takes it.
+// What a recording needs besides its path (bag/bag_dataset.h); empty for a folder.
+struct RecordingArgs {
+  std::optional<std::string> topic, calib, gt_topic;
+  std::optional<std::pair<std::string, std::string>> gt_frames;
+  bool Any() const { return topic || calib || gt_topic || gt_frames; }
+};
+
+Dataset OpenPath(const std::string& path, const RecordingArgs& recording) {
+  if (!IsBagPath(path)) {
+    if (recording.Any()) throw InputError(path + ": topic, calib, gt_topic and gt_frames are for recordings (.bag)");
+    return OpenDataset(path);
+  }
+  BagInput input;
+  input.topic = recording.topic.value_or("");
+  input.calib = recording.calib.value_or("");
+  input.gt_topic = recording.gt_topic.value_or("");
+  if (recording.gt_frames) std::tie(input.gt_parent, input.gt_child) = *recording.gt_frames;
+  return OpenBag(path, input);
+}
+
 struct PyDataset {
-  explicit PyDataset(const std::string& path)
-      : dataset(OpenDataset(path)),
+  PyDataset(const std::string& path, const RecordingArgs& recording)
+      : dataset(OpenPath(path, recording)),
         undistorter(FrameUndistorter(dataset, SystemOptions{})) {}
   Dataset dataset;
   Undistorter undistorter;
@@ -292,7 +317,8 @@ class PySystem {
 
 py::dict Run(const std::string& dataset_path, const std::string& out, const std::string& mode, const std::string& pace,
              int start, int end, bool global_ba, bool write_map, bool write_report, const py::object& options,
-             bool quiet, const std::string& load_map, const std::string& save_map, bool localize) {
+             bool quiet, const std::string& load_map, const std::string& save_map, bool localize,
+             const RecordingArgs& recording) {
   RunOptions o;
   o.system = OptionsFrom(options);
   o.system.mode = ParseMapMode(mode, "mode");
@@ -306,7 +332,7 @@ py::dict Run(const std::string& dataset_path, const std::string& out, const std:
   o.load_map = load_map;
   o.save_map = save_map;
   o.localize = localize;
-  const Dataset dataset = OpenDataset(dataset_path);
+  const Dataset dataset = OpenPath(dataset_path, recording);
   RunSummary summary;
   {
     py::gil_scoped_release release;
@@ -325,14 +351,26 @@ PYBIND11_MODULE(dsm, m) {
   m.doc() = "dsm: monocular visual SLAM by Direct Sparse Mapping";
   py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
 
-  m.def("run", &Run, py::arg("dataset"), py::kw_only(), py::arg("out") = "dsm_out", py::arg("mode") = "dsm",
+  m.def("run",
+        [](const std::string& dataset, const std::string& out, const std::string& mode, const std::string& pace,
+           int start, int end, bool global_ba, bool write_map, bool write_report, const py::object& options,
+           bool quiet, const std::string& load_map, const std::string& save_map, bool localize,
+           std::optional<std::string> topic, std::optional<std::string> calib, std::optional<std::string> gt_topic,
+           std::optional<std::pair<std::string, std::string>> gt_frames) {
+          return Run(dataset, out, mode, pace, start, end, global_ba, write_map, write_report, options, quiet,
+                     load_map, save_map, localize, {topic, calib, gt_topic, gt_frames});
+        },
+        py::arg("dataset"), py::kw_only(), py::arg("out") = "dsm_out", py::arg("mode") = "dsm",
         py::arg("pace") = "sequential", py::arg("start") = 0, py::arg("end") = -1, py::arg("global_ba") = false,
         py::arg("write_map") = true, py::arg("write_report") = true, py::arg("options") = py::none(),
         py::arg("quiet") = true, py::arg("load_map") = "", py::arg("save_map") = "", py::arg("localize") = false,
-        "Runs SLAM over a dataset folder or video as `dsm run` does (default pace: sequential, deterministic) and "
+        py::arg("topic") = py::none(), py::arg("calib") = py::none(), py::arg("gt_topic") = py::none(),
+        py::arg("gt_frames") = py::none(),
+        "Runs SLAM over a dataset folder or a recording (.bag) as `dsm run` does (default pace: sequential, deterministic) and "
         "returns stats.json as a dict (with 'eval' when the dataset has ground truth). `options`: a dict of option "
         "sections, as in a --config file, e.g. {'window': {'temporal_keyframes': 5}}. `load_map`, `save_map`, "
-        "`localize`: as --load-map, --save-map and --localize.");
+        "`localize`: as --load-map, --save-map and --localize. `topic`, `calib`, `gt_topic`, `gt_frames` (a pair of "
+        "frame names): a recording's, as --topic, --calib, --gt-topic and --gt-frames.");
 
   py::class_<PyFrame>(m, "Frame")
       .def_readonly("index", &PyFrame::index)
@@ -365,8 +403,15 @@ PYBIND11_MODULE(dsm, m) {
                              "The undistorted pinhole camera the frames are in (System's camera)")
       .def_property_readonly("format", [](const PyDataset& d) { return d.dataset.format; })
       .def_property_readonly("ground_truth", [](const PyDataset& d) { return TrajectoryArray(d.dataset.ground_truth); });
-  m.def("read_dataset", [](const std::string& path) { return std::make_unique<PyDataset>(path); }, py::arg("path"),
-        "Opens a dataset folder (EuRoC, TUM, KITTI, generic). Indexing or iterating gives Frame objects whose image is "
+  m.def("read_dataset",
+        [](const std::string& path, std::optional<std::string> topic, std::optional<std::string> calib,
+           std::optional<std::string> gt_topic, std::optional<std::pair<std::string, std::string>> gt_frames) {
+          return std::make_unique<PyDataset>(path, RecordingArgs{topic, calib, gt_topic, gt_frames});
+        },
+        py::arg("path"), py::arg("topic") = py::none(), py::kw_only(), py::arg("calib") = py::none(),
+        py::arg("gt_topic") = py::none(), py::arg("gt_frames") = py::none(),
+        "Opens a dataset folder (EuRoC, TUM, KITTI, generic) or a recording (.bag; `topic`, `calib`, `gt_topic`, "
+        "`gt_frames` as dsm run's --topic, --calib, --gt-topic, --gt-frames). Indexing or iterating gives Frame objects whose image is "
         "undistorted and photometrically corrected (float32), ready for System.process.");
 
   py::class_<PyMap>(m, "Map")

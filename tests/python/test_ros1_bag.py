@@ -230,3 +230,22 @@ def test_shared_euroc_bags_run_as_its_folder(dsm_bin, tmp_path):
                       "/vicon/pose")
         assert_same_outputs(run, reference)
         bag.unlink()
+
+
+def test_python_reads_and_runs_a_bag(loop, tmp_path):
+    """dsm.read_dataset and dsm.run take a bag as they take the folder of the same frames."""
+    import dsm
+    scene, reference = loop[0], loop[1]
+    bag = rb.write_bag(tmp_path / "loop.bag", image_messages(loop) + ground_truth_messages(loop, "PoseStamped"), "lz4")
+    from_bag = dsm.read_dataset(str(bag), "/cam0/image_raw", calib=str(scene / "camera.yaml"), gt_topic="/gt")
+    from_folder = dsm.read_dataset(str(reference.parent / "folder"))
+    assert len(from_bag) == len(from_folder) == 120
+    assert from_bag.format == "bag"
+    for i in [0, 57, 119]:
+        assert from_bag[i].t_ns == from_folder[i].t_ns
+        assert np.array_equal(from_bag[i].image, from_folder[i].image)
+    assert np.array_equal(from_bag.ground_truth, from_folder.ground_truth)
+    stats = dsm.run(str(bag), out=str(tmp_path / "run"), calib=str(scene / "camera.yaml"), gt_topic="/gt")
+    assert stats["eval"] == json.loads((reference / "eval.json").read_text())
+    with pytest.raises(dsm.InputError, match="no topic /nope"):
+        dsm.read_dataset(str(bag), "/nope", calib=str(scene / "camera.yaml"))

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# What reading a ROS 1 bag costs as it grows: the shared EuRoC frames written by python3-rosbag
+# (tests/python/ros1_bags.py) once (340 frames, 120 MB) and 17 times over (5780 frames, 2 GB), each
+# uncompressed and with lz4 chunks; then, for each bag, the time to the first frame (`dsm info`,
+# which opens the bag and reads its first and last frame) and the peak memory of a run over its
+# first 30 frames, timed by farm-bench against the small bag, pair by pair.
+#
+# Usage: ./scripts/bag_cost.sh [WORK_DIR]     (default /tmp/dsm_bag_cost; ~4.3 GB of bags, kept)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/dsm_binary.sh
+DATA="${DSM_SHARED_DATA_DIR:-../shared/data}"
+WORK="${1:-/tmp/dsm_bag_cost}"
+mkdir -p "$WORK"
+CAM0="$DATA/euroc_mh01_shake/mav0/cam0"
+
+for compression in none lz4; do
+  for repeats in 1 17; do
+    bag="$WORK/euroc_x${repeats}_${compression}.bag"
+    [ -f "$bag" ] && continue
+    /usr/bin/python3 - "$CAM0" "$bag" "$repeats" "$compression" <<'PY'
+import pathlib, sys
+sys.path.insert(0, "tests/python")
+import ros1_bags as rb
+import rosbag
+cam0, bag, repeats, compression = pathlib.Path(sys.argv[1]), sys.argv[2], int(sys.argv[3]), sys.argv[4]
+rows = [l.split(",") for l in (cam0 / "data.csv").read_text().splitlines() if not l.startswith("#")]
+stamps = [int(r[0]) for r in rows]
+frames = rb.gray_frames([cam0 / "data" / r[1].strip() for r in rows], 752, 480)
+span = stamps[-1] - stamps[0] + 50_000_000
+with rosbag.Bag(bag + ".part", "w", compression=compression) as out:
+    for k in range(repeats):
+        for f, t in zip(frames, stamps):
+            out.write("/cam0/image_raw", rb.image_message(f, "mono8", t + k * span), t=rb.stamp(t + k * span))
+pathlib.Path(bag + ".part").rename(bag)
+PY
+  done
+done
+ls -l "$WORK"/*.bag
+
+for compression in none lz4; do
+  small="$WORK/euroc_x1_${compression}.bag"
+  big="$WORK/euroc_x17_${compression}.bag"
+  echo "## $compression chunks: dsm info (open, first and last frame), 2 GB against 120 MB"
+  farm-bench -n 5 --timeout 600 --vs "$DSM info $small --calib $CAM0/sensor.yaml" -- \
+    "$DSM" info "$big" --calib "$CAM0/sensor.yaml"
+  echo "## $compression chunks: dsm run over the first 30 frames, 2 GB against 120 MB"
+  farm-bench -n 5 --timeout 900 \
+    --vs "$DSM run $small --calib $CAM0/sensor.yaml --end 30 --sequential --quiet --no-report --no-map --out $WORK/run_small" -- \
+    "$DSM" run "$big" --calib "$CAM0/sensor.yaml" --end 30 --sequential --quiet --no-report --no-map --out "$WORK/run_big"
+done
