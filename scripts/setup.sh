@@ -17,6 +17,7 @@ BUILD_PACKAGES=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-features2d-dev libopencv-calib3d-dev libopencv-video-dev libopencv-videoio-dev
   libopencv-contrib-dev                        # the aruco module: ChArUco boards (dsm calibrate)
   libbz2-dev liblz4-dev libzstd-dev            # recordings' compressed chunks (bag/decompress.h)
+  libsqlite3-dev                               # ROS 2 bags' .db3 files (bag/sqlite_bag.h)
   libboost-dev libwebsocketpp-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libzip-dev zlib1g-dev libceres-dev
   libgtest-dev libgmock-dev libbenchmark-dev   # found when the tree is configured

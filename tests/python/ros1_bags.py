@@ -4,8 +4,6 @@ python3-sensor-msgs, -geometry-msgs, -nav-msgs, -tf2-msgs) from a dataset folder
 sensor_msgs/Image in any encoding or as CompressedImage, the camera as CameraInfo, and poses as
 PoseStamped, TransformStamped, Odometry or /tf transforms."""
 import pathlib
-import subprocess
-import tempfile
 
 import numpy as np
 import rosbag
@@ -17,36 +15,9 @@ from std_msgs.msg import Header
 from tf2_msgs.msg import TFMessage
 
 
+
 def stamp(t_ns):
     return rospy.Time(t_ns // 10**9, t_ns % 10**9)
-
-
-def seconds_to_ns(text):
-    """A decimal seconds string to integer nanoseconds, digit by digit (as dsm reads it)."""
-    whole, _, frac = text.partition(".")
-    return int(whole) * 10**9 + int((frac + "000000000")[:9])
-
-
-def read_tum(path):
-    """(t_ns, (tx, ty, tz), (qx, qy, qz, qw)) per row of a TUM trajectory file."""
-    rows = []
-    for line in pathlib.Path(path).read_text().splitlines():
-        if line.strip() and not line.startswith("#"):
-            f = line.split()
-            rows.append((seconds_to_ns(f[0]), tuple(map(float, f[1:4])), tuple(map(float, f[4:8]))))
-    return rows
-
-
-def gray_frames(pngs, width, height):
-    """The PNG files' pixels as 8-bit grey arrays, decoded by ffmpeg."""
-    with tempfile.NamedTemporaryFile("w", suffix=".txt") as listing:
-        listing.write("".join(f"file '{p}'\n" for p in pngs))
-        listing.flush()
-        raw = subprocess.run(["ffmpeg", "-v", "error", "-f", "concat", "-safe", "0", "-i", listing.name, "-fps_mode", "passthrough", "-f",
-                              "rawvideo", "-pix_fmt", "gray", "-"], capture_output=True, check=True).stdout
-    frames = np.frombuffer(raw, np.uint8).reshape(-1, height, width)
-    assert len(frames) == len(pngs), f"ffmpeg decoded {len(frames)} of {len(pngs)} frames"
-    return frames
 
 
 def image_message(gray, encoding, t_ns, frame_id="cam0"):

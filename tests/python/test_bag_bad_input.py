@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import ros1_bags as rb
+from recordings import gray_frames
 
 T0 = 1_600_000_000_000_000_000
 
@@ -20,7 +21,7 @@ def scene(synthetic_run):
 
 @pytest.fixture(scope="module")
 def frames(scene):
-    return rb.gray_frames(sorted((scene / "images").glob("*.png")), 320, 240)
+    return gray_frames(sorted((scene / "images").glob("*.png")), 320, 240)
 
 
 def messages(frames, encoding="mono8", topic="/cam0/image_raw"):

@@ -14,41 +14,9 @@ import pytest
 import rosbag
 
 import ros1_bags as rb
+from recordings import OUTPUTS, assert_same_outputs, gray_frames, read_tum, run_recording as run_bag
 
 SHARED_ROS = pathlib.Path(os.environ.get("DSM_SHARED_DATA", pathlib.Path(__file__).parents[2] / ".." / "shared" / "data")) / "ros"
-OUTPUTS = ["frames.tum", "keyframes.tum"]
-
-
-@pytest.fixture(scope="module")
-def loop(dsm_bin, synthetic_run, tmp_path_factory):
-    """The synthetic loop's frames (grey arrays), stamps, ground truth, and a folder run of them
-    without exposure times (a bag carries none): (scene, reference run, frames, stamps, poses)."""
-    scene = synthetic_run[0].parent / "scene"
-    root = tmp_path_factory.mktemp("ros1")
-    folder = root / "folder"
-    folder.mkdir()
-    for name in ["images", "camera.yaml", "groundtruth.tum"]:
-        (folder / name).symlink_to(scene / name)
-    stamps = [int(line.split()[0]) for line in (scene / "times.txt").read_text().splitlines()
-              if line and not line.startswith("#")]
-    (folder / "times.txt").write_text("".join(f"{t}\n" for t in stamps))
-    run = root / "folder_run"
-    subprocess.run([dsm_bin, "run", str(folder), "--out", str(run), "--sequential", "--quiet"], check=True,
-                   capture_output=True)
-    pngs = sorted((scene / "images").glob("*.png"))
-    return scene, run, rb.gray_frames(pngs, 320, 240), stamps, rb.read_tum(scene / "groundtruth.tum"), pngs
-
-
-def run_bag(dsm_bin, bag, out, *args):
-    result = subprocess.run([dsm_bin, "run", str(bag), "--out", str(out), "--sequential", "--quiet", *args],
-                            capture_output=True, text=True)
-    assert result.returncode == 0, result.stderr
-    return out
-
-
-def assert_same_outputs(run, reference, with_eval=True):
-    for name in OUTPUTS + (["eval.json"] if with_eval else []):
-        assert (run / name).read_bytes() == (reference / name).read_bytes(), name
 
 
 def image_messages(loop, encoding="mono8", topic="/cam0/image_raw", latency_ns=0):
@@ -172,7 +140,7 @@ def shared_poses(bag_path, topic):
 
 
 def assert_same_poses(dsm_tum, expected):
-    got = rb.read_tum(dsm_tum)
+    got = read_tum(dsm_tum)
     assert len(got) == len(expected)
     for (t, p, q), (te, pe, qe) in [(got[0], expected[0]), (got[-1], expected[-1])]:
         assert t == te
@@ -213,7 +181,7 @@ def test_shared_euroc_bags_run_as_its_folder(dsm_bin, tmp_path):
     cam0 = euroc / "mav0" / "cam0"
     rows = [line.split(",") for line in (cam0 / "data.csv").read_text().splitlines() if not line.startswith("#")]
     stamps = [int(r[0]) for r in rows]
-    frames = rb.gray_frames([cam0 / "data" / r[1].strip() for r in rows], 752, 480)
+    frames = gray_frames([cam0 / "data" / r[1].strip() for r in rows], 752, 480)
     messages = [("/cam0/image_raw", rb.image_message(f, "mono8", t), t) for f, t in zip(frames, stamps)]
     gt_csv = euroc / "mav0" / "state_groundtruth_estimate0" / "data.csv"
     for line in gt_csv.read_text().splitlines():

@@ -39,7 +39,7 @@ struct DecodedFrame {
 DecodedFrame DecodeFrame(const BagFile& bag, const std::string& topic, bool compressed, size_t index, bool pixels) {
   const std::string where = bag.path().string() + " " + topic + " message " + std::to_string(index);
   const std::vector<uint8_t> bytes = bag.Read(topic, index);
-  WireReader in(bytes.data(), bytes.size(), bag.Wire(), where);
+  WireReader in(bytes.data(), bytes.size(), bag.WireOf(topic), where);
   DecodedFrame frame;
   if (compressed) {
     const CompressedImageMessage m = DecodeCompressedImage(in);
@@ -167,7 +167,7 @@ CameraCalibration ReadCameraInfo(const BagFile& bag, const std::string& image_to
   }
   const std::string where = bag.path().string() + " " + topic + " message 0";
   const std::vector<uint8_t> bytes = bag.Read(topic, 0);
-  WireReader in(bytes.data(), bytes.size(), bag.Wire(), where);
+  WireReader in(bytes.data(), bytes.size(), bag.WireOf(topic), where);
   return CalibrationFromCameraInfo(DecodeCameraInfo(in), where);
 }
 

@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <cctype>
 
+#include "dsm/bag/mcap_file.h"
 #include "dsm/bag/ros1_bag.h"
+#include "dsm/bag/ros2_bag.h"
+#include "dsm/bag/sqlite_bag.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -31,13 +34,34 @@ std::string BagFile::TypeOf(const std::string& topic) const {
                    (names.empty() ? std::string("no messages") : names) + ")");
 }
 
-bool IsBagPath(const fs::path& path) { return LowerExtension(path) == ".bag"; }
+WireFormat BagFile::WireOf(const std::string& topic) const {
+  TypeOf(topic);
+  for (const BagTopic& t : Topics()) {
+    if (t.name != topic) continue;
+    if (t.encoding == "ros1") return WireFormat::kRos1;
+    if (t.encoding == "cdr") return WireFormat::kCdr;
+    throw InputError(path().string() + ": topic " + topic + " is serialized as '" + t.encoding +
+                     "', not as ROS 1 or CDR messages");
+  }
+  throw InputError(path().string() + ": no topic " + topic);
+}
+
+bool IsBagPath(const fs::path& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return fs::is_regular_file(path / "metadata.yaml", ec);
+  const std::string ext = LowerExtension(path);
+  return ext == ".bag" || ext == ".mcap" || ext == ".db3";
+}
 
 std::unique_ptr<BagFile> OpenBagFile(const fs::path& path) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path.string() + ": no such bag file");
-  if (LowerExtension(path) == ".bag") return OpenRos1Bag(path);
-  throw InputError(path.string() + ": not a recording dsm reads (a ROS 1 .bag)");
+  if (fs::is_directory(path, ec) && fs::is_regular_file(path / "metadata.yaml", ec)) return OpenRos2Bag(path);
+  if (!fs::is_regular_file(path, ec)) throw InputError(path.string() + ": no such recording");
+  const std::string ext = LowerExtension(path);
+  if (ext == ".bag") return OpenRos1Bag(path);
+  if (ext == ".mcap") return OpenMcapFile(path);
+  if (ext == ".db3") return OpenSqliteBag(path);
+  throw InputError(path.string() + ": not a recording dsm reads (.bag, .mcap, .db3, or a ROS 2 bag's folder)");
 }
 
 std::string RosTypeName(const std::string& type) {

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 // A robot recording: messages on named topics, each of a ROS message type. Containers:
-//   ROS 1 bag    a `.bag` file (format 2.0; chunks uncompressed, bz2 or lz4), read with ROS 1's
-//                bag storage library; messages in the ROS 1 serialization
+//   ROS 1 bag    a `.bag` file (format 2.0; chunks uncompressed, bz2 or lz4; ros1_bag.h), messages
+//                in the ROS 1 serialization
+//   MCAP         a `.mcap` file (mcap_file.h) of `cdr` (ROS 2) or `ros1` messages
+//   ROS 2 bag    a folder with rosbag2's `metadata.yaml` and the `.db3` (SQLite) or `.mcap` files
+//                it lists (ros2_bag.h), messages in CDR; a `.db3` file alone reads too
 // Message types are named the ROS 1 way ("sensor_msgs/Image"; ROS 2's "sensor_msgs/msg/Image"
 // is read as that). Opening reads the container's index, not its messages: the messages of a
 // topic are read one at a time, when asked for.
@@ -19,7 +22,8 @@ namespace dsm {
 
 struct BagTopic {
   std::string name;
-  std::string type;  // "sensor_msgs/Image"
+  std::string type;      // "sensor_msgs/Image"
+  std::string encoding;  // How its messages are serialized: "ros1", "cdr" (the ones dsm reads), ...
   uint64_t count = 0;
 };
 
@@ -29,7 +33,6 @@ class BagFile {
   const std::filesystem::path& path() const { return path_; }
   // "ROS 1 bag", "MCAP", "ROS 2 bag (SQLite)", ...
   virtual std::string Container() const = 0;
-  virtual WireFormat Wire() const = 0;
   // Every topic with at least one message, sorted by name.
   virtual std::vector<BagTopic> Topics() const = 0;
   // The log (record) times of `topic`'s messages in nanoseconds, in the order the messages are
@@ -44,6 +47,9 @@ class BagFile {
   // The type of `topic`; throws InputError naming the file and the topics there are when it is
   // not in the recording.
   std::string TypeOf(const std::string& topic) const;
+  // How `topic`'s messages are serialized; throws InputError naming the file and topic for a
+  // missing topic or an encoding dsm does not read.
+  WireFormat WireOf(const std::string& topic) const;
 
  protected:
   explicit BagFile(std::filesystem::path path) : path_(std::move(path)) {}
@@ -52,7 +58,8 @@ class BagFile {
   std::filesystem::path path_;
 };
 
-// Whether `path` is a recording OpenBagFile reads: a file ending in .bag.
+// Whether `path` is a recording OpenBagFile reads: a file ending in .bag, .mcap or .db3, or a
+// folder with a metadata.yaml.
 bool IsBagPath(const std::filesystem::path& path);
 
 // Opens the recording at `path`; throws InputError naming the file and what is wrong (not a bag,

@@ -30,7 +30,7 @@ std::vector<StampedPose> ReadPoses(const BagFile& bag, const std::string& topic)
   const size_t count = bag.LogTimes(topic).size();
   for (size_t i = 0; i < count; ++i) {
     const std::vector<uint8_t> bytes = bag.Read(topic, i);
-    WireReader in(bytes.data(), bytes.size(), bag.Wire(), Where(bag, topic, i));
+    WireReader in(bytes.data(), bytes.size(), bag.WireOf(topic), Where(bag, topic, i));
     try {
       for (const StampedPose& p : DecodePoses(type, in)) poses.push_back(p);
     } catch (const InputError& e) {

@@ -28,6 +28,7 @@ Eigen::Quaterniond ReadQuaternion(WireReader& in, const std::string& where) {
 // quaternion.
 SE3d ReadPose(WireReader& in, const std::string& where) {
   const Eigen::Vector3d t = ReadVector3(in);
+  if (!t.allFinite()) throw InputError(where + ": a pose whose position is not finite");
   return SE3d(ReadQuaternion(in, where), t);
 }
 

@@ -92,7 +92,6 @@ class Ros1Bag : public BagFile {
   }
 
   std::string Container() const override { return "ROS 1 bag"; }
-  WireFormat Wire() const override { return WireFormat::kRos1; }
 
   std::vector<BagTopic> Topics() const override {
     std::vector<BagTopic> topics;
@@ -187,6 +186,7 @@ class Ros1Bag : public BagFile {
         }
         t.name = topic;
         t.type = type;
+        t.encoding = "ros1";
         connection_topic[Field<uint32_t>(r.fields, "conn", Where(pos))] = topic;
       } else if (r.op == kOpChunkInfo) {
         chunk_infos.emplace_back(Field<uint64_t>(r.fields, "chunk_pos", Where(pos)),

@@ -1,0 +1,9 @@
+// SPDX-License-Identifier: MIT
+// rosbag2 SQLite files (bag/sqlite_bag.h), read as fuzz_recording.h says.
+#include "fuzz/fuzz_input.h"
+#include "fuzz/fuzz_recording.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  dsm::fuzz::FuzzRecording(dsm::fuzz::Scratch() / "fuzz.db3", data, size);
+  return 0;
+}
