@@ -27,7 +27,7 @@ struct RunArgs {
   bool print_config = false;
   bool quiet = false, no_map = false, no_report = false, global_ba = false, no_loop_closure = false, truth_ba = false, sequential = false,
        realtime = false, localize = false;
-  std::string save_map, load_map;
+  std::string save_map, load_map, mcap;
   std::string camera, record;
   double duration = 0.0, stall_timeout = 5.0;
   GtArgs gt;
@@ -72,6 +72,7 @@ RunOptions OptionsFrom(const RunArgs& a) {
   options.write_map = !a.no_map;
   options.write_report = !a.no_report;
   options.save_map = a.save_map;
+  options.mcap = a.mcap;
   options.load_map = a.load_map;
   options.localize = a.localize;
   if (a.port < 0 || a.port > 65535) throw InputError("--port must be 0..65535");
@@ -160,6 +161,9 @@ Command AddRun(CLI::App& app) {
   app.add_option("--save-map", a->save_map,
                  "Write every map of the run (keyframes with images, points, observations) to this map file at the "
                  "end (`dsm map info FILE` describes it)");
+  app.add_option("--mcap", a->mcap,
+                 "Write the run's results to this MCAP file at the end, as ROS 2 messages Foxglove and the ROS 2 tools "
+                 "open: each frame's and keyframe's pose, /tf, the keyframe images, the map's points, the trajectory");
   app.add_option("--load-map", a->load_map,
                  "Start in the maps of this map file (dsm run --save-map): relocalise in them where the camera "
                  "starts in a known place, track and extend them in their frame and scale; a new map elsewhere");

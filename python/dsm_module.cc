@@ -318,7 +318,7 @@ class PySystem {
 py::dict Run(const std::string& dataset_path, const std::string& out, const std::string& mode, const std::string& pace,
              int start, int end, bool global_ba, bool write_map, bool write_report, const py::object& options,
              bool quiet, const std::string& load_map, const std::string& save_map, bool localize,
-             const RecordingArgs& recording) {
+             const std::string& mcap, const RecordingArgs& recording) {
   RunOptions o;
   o.system = OptionsFrom(options);
   o.system.mode = ParseMapMode(mode, "mode");
@@ -331,6 +331,7 @@ py::dict Run(const std::string& dataset_path, const std::string& out, const std:
   o.quiet = quiet;
   o.load_map = load_map;
   o.save_map = save_map;
+  o.mcap = mcap;
   o.localize = localize;
   const Dataset dataset = OpenPath(dataset_path, recording);
   RunSummary summary;
@@ -355,21 +356,21 @@ PYBIND11_MODULE(dsm, m) {
         [](const std::string& dataset, const std::string& out, const std::string& mode, const std::string& pace,
            int start, int end, bool global_ba, bool write_map, bool write_report, const py::object& options,
            bool quiet, const std::string& load_map, const std::string& save_map, bool localize,
-           std::optional<std::string> topic, std::optional<std::string> calib, std::optional<std::string> gt_topic,
+           const std::string& mcap, std::optional<std::string> topic, std::optional<std::string> calib, std::optional<std::string> gt_topic,
            std::optional<std::pair<std::string, std::string>> gt_frames) {
           return Run(dataset, out, mode, pace, start, end, global_ba, write_map, write_report, options, quiet,
-                     load_map, save_map, localize, {topic, calib, gt_topic, gt_frames});
+                     load_map, save_map, localize, mcap, {topic, calib, gt_topic, gt_frames});
         },
         py::arg("dataset"), py::kw_only(), py::arg("out") = "dsm_out", py::arg("mode") = "dsm",
         py::arg("pace") = "sequential", py::arg("start") = 0, py::arg("end") = -1, py::arg("global_ba") = false,
         py::arg("write_map") = true, py::arg("write_report") = true, py::arg("options") = py::none(),
         py::arg("quiet") = true, py::arg("load_map") = "", py::arg("save_map") = "", py::arg("localize") = false,
-        py::arg("topic") = py::none(), py::arg("calib") = py::none(), py::arg("gt_topic") = py::none(),
+        py::arg("mcap") = "", py::arg("topic") = py::none(), py::arg("calib") = py::none(), py::arg("gt_topic") = py::none(),
         py::arg("gt_frames") = py::none(),
         "Runs SLAM over a dataset folder or a recording (.bag) as `dsm run` does (default pace: sequential, deterministic) and "
         "returns stats.json as a dict (with 'eval' when the dataset has ground truth). `options`: a dict of option "
         "sections, as in a --config file, e.g. {'window': {'temporal_keyframes': 5}}. `load_map`, `save_map`, "
-        "`localize`: as --load-map, --save-map and --localize. `topic`, `calib`, `gt_topic`, `gt_frames` (a pair of "
+        "`localize`, `mcap`: as --load-map, --save-map, --localize and --mcap. `topic`, `calib`, `gt_topic`, `gt_frames` (a pair of "
         "frame names): a recording's, as --topic, --calib, --gt-topic and --gt-frames.");
 
   py::class_<PyFrame>(m, "Frame")

@@ -23,10 +23,11 @@ import pathlib, sys
 sys.path.insert(0, "tests/python")
 import ros1_bags as rb
 import rosbag
+from recordings import gray_frames
 cam0, bag, repeats, compression = pathlib.Path(sys.argv[1]), sys.argv[2], int(sys.argv[3]), sys.argv[4]
 rows = [l.split(",") for l in (cam0 / "data.csv").read_text().splitlines() if not l.startswith("#")]
 stamps = [int(r[0]) for r in rows]
-frames = rb.gray_frames([cam0 / "data" / r[1].strip() for r in rows], 752, 480)
+frames = gray_frames([cam0 / "data" / r[1].strip() for r in rows], 752, 480)
 span = stamps[-1] - stamps[0] + 50_000_000
 with rosbag.Bag(bag + ".part", "w", compression=compression) as out:
     for k in range(repeats):

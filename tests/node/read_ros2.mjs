@@ -6,6 +6,9 @@
 //   node read_ros2.mjs poses FILE.mcap TOPIC    [[t_ns (string), [x, y, z], [qx, qy, qz, qw]], ...]
 //   node read_ros2.mjs cdr-poses TYPE FILE      the same, of CDR messages of TYPE one after the
 //                                                other, each after its length (u32, little-endian)
+//   node read_ros2.mjs decode FILE.mcap         {TOPIC: {"count", "first", "last"}}: every message
+//                                                decoded, the first and last as JSON (byte arrays
+//                                                as their length, 64-bit integers as strings)
 // Every message of the file is read through @mcap/core's indexed reader (chunks decompressed by
 // lz4js and @foxglove/wasm-zstd) and decoded by @foxglove/rosmsg2-serialization from the schema
 // the file holds (cdr-poses: the definitions of ros2_definitions.mjs).
@@ -91,7 +94,25 @@ if (command === "summary") {
     at += 4 + length;
   }
   console.log(JSON.stringify(rows));
+} else if (command === "decode") {
+  const reader = await indexedReader(path);
+  const decoders = new Map();
+  const topics = {};
+  const plain = (key, value) =>
+    value instanceof Uint8Array ? value.length : typeof value === "bigint" ? value.toString() : value;
+  for await (const message of reader.readMessages()) {
+    const channel = reader.channelsById.get(message.channelId);
+    if (!decoders.has(channel.schemaId)) {
+      const schema = reader.schemasById.get(channel.schemaId);
+      decoders.set(channel.schemaId, new MessageReader(parse(new TextDecoder().decode(schema.data), { ros2: true })));
+    }
+    const decoded = JSON.parse(JSON.stringify(decoders.get(channel.schemaId).readMessage(message.data), plain));
+    const entry = topics[channel.topic] ?? (topics[channel.topic] = { count: 0, first: decoded });
+    entry.count += 1;
+    entry.last = decoded;
+  }
+  console.log(JSON.stringify(topics));
 } else {
-  console.error("usage: node read_ros2.mjs summary FILE | poses FILE TOPIC | cdr-poses TYPE FILE");
+  console.error("usage: node read_ros2.mjs summary FILE | poses FILE TOPIC | cdr-poses TYPE FILE | decode FILE");
   process.exit(2);
 }

@@ -30,7 +30,7 @@ def read_tum(path):
 def gray_frames(pngs, width, height):
     """The PNG files' pixels as 8-bit grey arrays, decoded by ffmpeg."""
     with tempfile.NamedTemporaryFile("w", suffix=".txt") as listing:
-        listing.write("".join(f"file '{p}'\n" for p in pngs))
+        listing.write("".join(f"file '{pathlib.Path(p).resolve()}'\n" for p in pngs))
         listing.flush()
         raw = subprocess.run(["ffmpeg", "-v", "error", "-f", "concat", "-safe", "0", "-i", listing.name, "-fps_mode", "passthrough", "-f",
                               "rawvideo", "-pix_fmt", "gray", "-"], capture_output=True, check=True).stdout

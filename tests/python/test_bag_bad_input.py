@@ -131,3 +131,69 @@ def test_unlinked_tf_frames(dsm_bin, scene, frames, tmp_path):
     bag = rb.write_bag(tmp_path / "tf.bag", messages(frames[:5]) + [("/tf", tf, T0)])
     assert error_of(run(dsm_bin, bag, scene, tmp_path, "--gt-frames", "map", "cam0")) == (
         f"{bag}: no chain of transforms joins map and cam0 on /tf and /tf_static (links: odom -> base)")
+
+
+# ROS 2 recordings (MCAP files, rosbag2 SQLite bags), written by the MCAP and Foxglove writers.
+
+def ros2_recording(frames, n=40):
+    import ros2_recordings as r2
+    recording = r2.Recording()
+    for i, f in enumerate(frames[:n]):
+        t = T0 + i * 50_000_000
+        recording.add("/cam0/image_raw", "sensor_msgs/msg/Image", t, r2.image(t, 240, 320), f)
+    return recording
+
+
+def test_truncated_mcap(dsm_bin, scene, frames, tmp_path):
+    mcap = ros2_recording(frames).write_mcap(tmp_path / "whole.mcap", "zstd", chunk_size=200_000)
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(mcap.read_bytes()[: mcap.stat().st_size // 2])
+    message = error_of(run(dsm_bin, cut, scene, tmp_path))
+    assert message.startswith(f"{cut}: the record at ") and "runs past the end of the file" in message, message
+
+
+def test_mcap_chunk_that_fails_its_crc_stops_the_run_with_its_outputs(dsm_bin, scene, frames, tmp_path):
+    mcap = ros2_recording(frames, 120).write_mcap(tmp_path / "ok.mcap", "none", chunk_size=400_000)
+    data = bytearray(mcap.read_bytes())
+    middle = len(data) * 6 // 10
+    data[middle:middle + 64] = bytes(64)  # image bytes in a chunk: only its CRC tells
+    damaged = tmp_path / "damaged.mcap"
+    damaged.write_bytes(bytes(data))
+    message = error_of(run(dsm_bin, damaged, scene, tmp_path))
+    assert message.startswith(f"{damaged} topic /cam0/image_raw message "), message
+    assert "its records fail their CRC-32" in message and "its outputs up to there are written" in message
+    assert "damaged_input" in json.loads((tmp_path / "run" / "stats.json").read_text())
+
+
+def test_mcap_message_index_that_lies(dsm_bin, scene, frames, tmp_path):
+    """Every message index entry pointed past its chunk's records."""
+    mcap = ros2_recording(frames, 10).write_mcap(tmp_path / "ok.mcap", "zstd")
+    data = bytearray(mcap.read_bytes())
+    at = 0
+    while True:  # Message Index records (opcode 7) in the data section: their offsets made huge.
+        at = data.find(b"\x07", at + 1)
+        if at < 0 or at + 9 > len(data):
+            break
+        length = struct.unpack_from("<Q", data, at + 1)[0]
+        if length == 2 + 4 + 16 * 10 and struct.unpack_from("<I", data, at + 11)[0] == 160:
+            for k in range(10):
+                struct.pack_into("<Q", data, at + 15 + 16 * k + 8, 1 << 40)
+    lying = tmp_path / "lying.mcap"
+    lying.write_bytes(bytes(data))
+    assert error_of(run(dsm_bin, lying, scene, tmp_path)).startswith(f"{lying} topic /cam0/image_raw message 0")
+
+
+def test_db3_that_is_not_sqlite(dsm_bin, scene, tmp_path):
+    junk = tmp_path / "junk.db3"
+    junk.write_bytes(b"not SQLite" * 100)
+    assert error_of(run(dsm_bin, junk, scene, tmp_path)) == f"{junk}: not an SQLite file (a ROS 2 bag's .db3 is one)"
+
+
+def test_bag_folder_with_a_bad_metadata_yaml(dsm_bin, scene, frames, tmp_path):
+    bag = ros2_recording(frames, 5).write_sqlite_bag(tmp_path / "bag")
+    metadata = bag / "metadata.yaml"
+    metadata.write_text(metadata.read_text().replace("storage_identifier: sqlite3", "storage_identifier: leveldb"))
+    assert error_of(run(dsm_bin, bag, scene, tmp_path)) == (
+        f"{metadata}: storage_identifier 'leveldb' is not one dsm reads (sqlite3, mcap)")
+    metadata.write_text(metadata.read_text().replace("  relative_file_paths:\n    - bag_0.db3\n", ""))
+    assert error_of(run(dsm_bin, bag, scene, tmp_path)) == f"{metadata}: missing key 'relative_file_paths'"

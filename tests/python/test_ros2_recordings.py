@@ -151,3 +151,59 @@ def test_shared_euroc_as_ros2_runs_as_its_folder(dsm_bin, tmp_path, container):
     run = run_recording(dsm_bin, recorded, tmp_path / container, "--calib", str(cam0 / "sensor.yaml"), "--gt-topic",
                         "/vicon/pose")
     assert_same_outputs(run, reference)
+
+
+def test_mcap_output_reads_back_with_mcap_core(dsm_bin, loop, tmp_path):
+    """`dsm run --mcap`: @mcap/core reads every channel, schema and message count as stats.json says
+    they were written, and the Foxglove CDR reader decodes each message from the file's schemas to
+    what the run's other outputs hold."""
+    from recordings import read_tum
+    scene = loop[0]
+    out, mcap = tmp_path / "run", tmp_path / "run.mcap"
+    run_recording(dsm_bin, scene, out, "--mcap", str(mcap))
+    written = json.loads((out / "stats.json").read_text())["mcap"]
+    assert written["file"] == str(mcap)
+    tools = str(r2.node_tools() / "read_ros2.mjs")
+    summary = json.loads(subprocess.run(["node", tools, "summary", str(mcap)], capture_output=True, text=True,
+                                        check=True).stdout)
+    types = {"/dsm/camera_pose": "geometry_msgs/msg/PoseStamped", "/tf": "tf2_msgs/msg/TFMessage",
+             "/dsm/keyframe_pose": "geometry_msgs/msg/PoseStamped", "/dsm/keyframe_image": "sensor_msgs/msg/Image",
+             "/dsm/camera_info": "sensor_msgs/msg/CameraInfo", "/dsm/map": "sensor_msgs/msg/PointCloud2",
+             "/dsm/trajectory": "nav_msgs/msg/Path"}
+    assert {c["topic"]: (c["schemaName"], c["schemaEncoding"], c["messageEncoding"], c["count"])
+            for c in summary["channels"]} == {
+        topic: (types[topic], "ros2msg", "cdr", count) for topic, count in written["messages"].items()}
+    assert summary["messageCount"] == sum(written["messages"].values())
+
+    frames, keyframes = read_tum(out / "frames.tum"), read_tum(out / "keyframes.tum")
+    assert written["messages"]["/dsm/camera_pose"] == written["messages"]["/tf"] == len(frames)
+    assert written["messages"]["/dsm/keyframe_pose"] == written["messages"]["/dsm/keyframe_image"] == len(keyframes)
+    decoded = json.loads(subprocess.run(["node", tools, "decode", str(mcap)], capture_output=True, text=True,
+                                        check=True).stdout)
+    assert {topic: d["count"] for topic, d in decoded.items()} == written["messages"]
+
+    def row(pose_stamped):
+        stamp, pose = pose_stamped["header"]["stamp"], pose_stamped["pose"]
+        p, q = pose["position"], pose["orientation"]
+        return stamp["sec"] * 10**9 + stamp["nanosec"], [p["x"], p["y"], p["z"]], [q["x"], q["y"], q["z"], q["w"]]
+
+    for message, (t, p, q) in [(decoded["/dsm/camera_pose"]["last"], frames[-1]),
+                               (decoded["/dsm/keyframe_pose"]["last"], keyframes[-1])]:
+        t_got, p_got, q_got = row(message)
+        assert t_got == t and np.allclose(p_got, p, atol=1e-8) and np.allclose(q_got, q, atol=1e-8)
+    tf = decoded["/tf"]["last"]["transforms"][0]
+    assert (tf["header"]["frame_id"], tf["child_frame_id"]) == ("map", "camera")
+    path = decoded["/dsm/trajectory"]["first"]
+    assert len(path["poses"]) == len(keyframes)
+    assert np.allclose(row(path["poses"][-1])[1], keyframes[-1][1], atol=1e-8)
+    image = decoded["/dsm/keyframe_image"]["first"]
+    assert (image["encoding"], image["height"], image["width"], image["step"], image["data"]) == (
+        "mono8", 240, 320, 320, 240 * 320)
+    cloud = decoded["/dsm/map"]["first"]
+    vertices = next(int(line.split()[2]) for line in (out / "map.ply").read_bytes().split(b"end_header")[0]
+                    .decode().splitlines() if line.startswith("element vertex"))
+    assert (cloud["height"], cloud["width"], cloud["point_step"], cloud["data"]) == (1, vertices, 16, 16 * vertices)
+    assert [f["name"] for f in cloud["fields"]] == ["x", "y", "z", "intensity"]
+    # dsm reads its own file back: its keyframe images with their camera are a recording.
+    lines = subprocess.run([dsm_bin, "info", str(mcap)], capture_output=True, text=True, check=True).stdout
+    assert f"frames:       {len(keyframes)}" in lines

@@ -71,6 +71,7 @@ class SqliteBag : public BagFile {
         t.name = Text(topics.get(), 1);
         t.type = RosTypeName(Text(topics.get(), 2));
         t.encoding = Text(topics.get(), 3);
+        if (topics_.count(t.name)) throw InputError(Where() + ": topic " + t.name + " is listed twice in its topics table");
         names[sqlite3_column_int64(topics.get(), 0)] = t.name;
         topics_[t.name] = t;
       }
@@ -163,6 +164,10 @@ class SqliteBag : public BagFile {
         rows.push_back({sqlite3_column_int64(select.get(), 0), sqlite3_column_int64(select.get(), 1)});
       }
       Check(step);
+      if (rows.size() != topics_.at(topic).count) {
+        throw InputError(Where() + ": topic " + topic + " counts " + std::to_string(topics_.at(topic).count) +
+                         " messages but lists " + std::to_string(rows.size()) + " (a damaged file)");
+      }
       it = rows_.emplace(topic, std::move(rows)).first;
     }
     return it->second;

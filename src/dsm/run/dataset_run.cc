@@ -12,6 +12,7 @@
 
 #include "dsm/config/option_registry.h"
 #include "dsm/report/report.h"
+#include "dsm/run/mcap_export.h"
 #include "dsm/run/interrupt.h"
 #include "dsm/util/check.h"
 #include "dsm/util/version.h"
@@ -163,7 +164,8 @@ void DatasetRun::EndMap(int id, System& system, const Atlas::Spans& spans, int m
   const fs::path dir = id == 0 ? out_dir_ : out_dir_ / ("map_" + std::to_string(id));
   ended_[id] = CloseMap(system, dir, spans, (options_.global_ba || saved) && !system.localizing(),
                         undistorter_.output(), options_.write_map,
-                        options_.truth_ba && dataset_.HasGroundTruth() ? &dataset_.ground_truth : nullptr);
+                        options_.truth_ba && dataset_.HasGroundTruth() ? &dataset_.ground_truth : nullptr,
+                        !options_.mcap.empty());
   if (saved) {
     if (stored_.size() <= static_cast<size_t>(id)) stored_.resize(id + 1);
     stored_[id] = system.TakeStoredMap();
@@ -342,6 +344,18 @@ void DatasetRun::FeedFrames() {
   }
 }
 
+void DatasetRun::WriteMcap(const std::vector<MapRun>& maps, RunSummary* summary) {
+  std::vector<McapMap> written;
+  for (size_t id = 0; id < maps.size(); ++id) {
+    const MapRun& m = maps[id];
+    if (m.merged_into >= 0) continue;
+    written.push_back({static_cast<int>(id), m.frames, m.keyframes, m.points, m.keyframe_images});
+  }
+  nlohmann::json topics = nlohmann::json::object();
+  for (const auto& [topic, count] : WriteRunMcap(options_.mcap, written, undistorter_.output())) topics[topic] = count;
+  summary->stats["mcap"] = {{"file", options_.mcap.string()}, {"messages", topics}};
+}
+
 std::string DatasetRun::SaveMapFile(RunSummary* summary) {
   // Every map that has keyframes, in the order the run made them.
   MapFile file;
@@ -390,6 +404,7 @@ RunSummary DatasetRun::Finish() {
   }
   // A failure to write the map file is reported after the other outputs are written.
   const std::string save_error = options_.save_map.empty() ? "" : SaveMapFile(&summary);
+  if (!options_.mcap.empty()) WriteMcap(maps, &summary);
   summary.stats["wall_s"] = std::chrono::duration<double>(Clock::now() - wall0_).count();
   WriteJson(out_dir_ / "stats.json", summary.stats);
   if (options_.write_report) WriteReport(out_dir_);

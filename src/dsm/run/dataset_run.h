@@ -88,6 +88,9 @@ class DatasetRun {
   void TakeReleased(int i, const Image<float>& image, TimePoint released, TimePoint taken);
   // The map file of RunOptions::save_map; the error, if it cannot be written.
   std::string SaveMapFile(RunSummary* summary);
+  // Writes RunOptions::mcap from the maps that ended (stats.json "mcap": the file, the messages per
+  // topic).
+  void WriteMcap(const std::vector<MapRun>& maps, RunSummary* summary);
 
   const Dataset& dataset_;
   const RunOptions& options_;

@@ -9,6 +9,7 @@
 #include "dsm/eval/metrics.h"
 #include "dsm/io/trajectory_io.h"
 #include "dsm/run/map_export.h"
+#include "dsm/run/mcap_export.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -47,7 +48,7 @@ void WriteJson(const fs::path& path, const nlohmann::json& j) {
 // with write_map, its points and keyframes as PLY); then, given `truth` (RunOptions::truth_ba),
 // adjusts the map from the true poses (keyframes_truth_ba.tum).
 MapRun CloseMap(System& system, const fs::path& dir, const Atlas::Spans& spans, bool global_ba,
-                const PinholeCamera& camera, bool write_map, const Trajectory* truth) {
+                const PinholeCamera& camera, bool write_map, const Trajectory* truth, bool keep_for_mcap) {
   system.Finish();
   MapRun m;
   m.dir = dir;
@@ -80,6 +81,10 @@ MapRun CloseMap(System& system, const fs::path& dir, const Atlas::Spans& spans, 
   if (write_map) {
     WritePly(dir / "map.ply", points);
     WritePly(dir / "keyframes.ply", KeyframeCloud(system.map()));
+  }
+  if (keep_for_mcap) {
+    m.points = points;
+    m.keyframe_images = KeyframeImages(system.map());
   }
   if (truth) {
     m.truth_ba = AdjustFromTruth(system, *truth, m.keyframes);

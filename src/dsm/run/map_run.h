@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,7 +14,9 @@
 
 #include "dsm/geometry/camera.h"
 #include "dsm/geometry/trajectory.h"
+#include "dsm/image/image.h"
 #include "dsm/io/dataset.h"
+#include "dsm/io/ply.h"
 #include "dsm/system/atlas.h"
 #include "dsm/system/system.h"
 
@@ -39,13 +42,16 @@ struct MapRun {
   std::optional<Trajectory> before_global_ba;
   std::optional<Trajectory> truth_ba;  // Keyframes after System::AdjustWholeMapFrom(the truth).
   std::optional<nlohmann::json> eval;
+  // Kept for the MCAP file (RunOptions::mcap) when it is asked for: its points and keyframe images.
+  PlyCloud points;
+  std::vector<std::pair<int64_t, Image<uint8_t>>> keyframe_images;
 };
 
 // Ends a map: waits for its mapping, runs the global BA when asked, writes its trajectories (and,
 // with write_map, its points and keyframes as PLY); then, given `truth` (RunOptions::truth_ba),
 // adjusts the map from the true poses (keyframes_truth_ba.tum).
 MapRun CloseMap(System& system, const std::filesystem::path& dir, const Atlas::Spans& spans, bool global_ba,
-                const PinholeCamera& camera, bool write_map, const Trajectory* truth);
+                const PinholeCamera& camera, bool write_map, const Trajectory* truth, bool keep_for_mcap = false);
 
 // Sim(3) evaluation of a map's trajectories (with at least three poses each), written to its
 // eval.json; appends ", keyframe ATE ..." to `line`.

@@ -59,6 +59,9 @@ struct RunOptions {
   bool write_report = true;  // report.html (report/report.h) in the output folder.
   // Non-empty: every map of the run is written to this map file (mapfile/map_file.h) at the end.
   std::filesystem::path save_map;
+  // Non-empty: the run's poses, keyframe images, map points and trajectory are written to this
+  // MCAP file at the end (mcap_export.h).
+  std::filesystem::path mcap;
   // Non-empty: the maps of this map file are taken up first (System::RestoreMap): the run
   // relocalises in them where the camera starts in a known place, writes its poses in that map's
   // frame and scale and extends it; elsewhere it starts a new map as usual. Output folder 0 is the
