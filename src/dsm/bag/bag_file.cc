@@ -8,6 +8,7 @@
 #include "dsm/bag/ros1_bag.h"
 #include "dsm/bag/ros2_bag.h"
 #include "dsm/bag/sqlite_bag.h"
+#include "dsm/io/dataset.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -23,6 +24,44 @@ std::string LowerExtension(const fs::path& path) {
 }
 
 }  // namespace
+
+std::vector<BagTopic> BagFile::Topics() const {
+  std::vector<BagTopic> topics;
+  for (const auto& [name, topic] : topics_) {
+    if (topic.count > 0) topics.push_back(topic);
+  }
+  return topics;
+}
+
+void BagFile::AddTopic(const BagTopic& topic) {
+  const auto it = topics_.find(topic.name);
+  if (it == topics_.end()) {
+    topics_[topic.name] = topic;
+    return;
+  }
+  if (it->second.type != topic.type || it->second.encoding != topic.encoding) {
+    throw InputError(path().string() + ": topic " + topic.name + " carries two types, " + it->second.type + " (" +
+                     it->second.encoding + ") and " + topic.type + " (" + topic.encoding + ")");
+  }
+  it->second.count += topic.count;
+}
+
+std::vector<uint8_t> BagFile::Read(const std::string& topic, size_t index) const {
+  const auto it = topics_.find(topic);
+  if (it == topics_.end() || it->second.count == 0) TypeOf(topic);  // Throws, naming the topics there are.
+  if (index >= it->second.count) {
+    throw InputError(path().string() + ": topic " + topic + " has no message " + std::to_string(index));
+  }
+  const std::string what = path().string() + " topic " + topic + " message " + std::to_string(index);
+  try {
+    return ReadMessage(topic, index, what);
+  } catch (const DamagedRecordingError&) {
+    throw;
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    throw DamagedRecordingError(message.rfind(what, 0) == 0 ? message : what + ": " + message);
+  }
+}
 
 std::string BagFile::TypeOf(const std::string& topic) const {
   std::string names;

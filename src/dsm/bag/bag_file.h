@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,15 +35,16 @@ class BagFile {
   // "ROS 1 bag", "MCAP", "ROS 2 bag (SQLite)", ...
   virtual std::string Container() const = 0;
   // Every topic with at least one message, sorted by name.
-  virtual std::vector<BagTopic> Topics() const = 0;
+  std::vector<BagTopic> Topics() const;
   // The log (record) times of `topic`'s messages in nanoseconds, in the order the messages are
   // numbered below (log time, then position in the file), from the index alone. Throws InputError
   // naming the file and topic when the topic is not in the recording.
   virtual std::vector<int64_t> LogTimes(const std::string& topic) const = 0;
-  // The serialized bytes of message `index` of `topic` (numbered as LogTimes); throws
-  // DamagedRecordingError (io/dataset.h) naming the file and topic when it cannot be read (a
-  // damaged chunk, an index that points outside the file). Safe to call from several threads.
-  virtual std::vector<uint8_t> Read(const std::string& topic, size_t index) const = 0;
+  // The serialized bytes of message `index` of `topic` (numbered as LogTimes); throws InputError
+  // for a topic or message that is not there, and DamagedRecordingError (io/dataset.h) naming the
+  // file, topic and message when the container cannot give it (a damaged chunk, an index that
+  // points outside the file). Safe to call from several threads.
+  std::vector<uint8_t> Read(const std::string& topic, size_t index) const;
 
   // The type of `topic`; throws InputError naming the file and the topics there are when it is
   // not in the recording.
@@ -53,9 +55,18 @@ class BagFile {
 
  protected:
   explicit BagFile(std::filesystem::path path) : path_(std::move(path)) {}
+  // Message `index` (in range) of `topic`; errors are InputError (Read makes them
+  // DamagedRecordingError), their messages best begin with `what` ("FILE topic T message I").
+  virtual std::vector<uint8_t> ReadMessage(const std::string& topic, size_t index, const std::string& what) const = 0;
+  // Adds `count` messages of `topic` (its name, type and encoding) to what Topics() lists; throws
+  // InputError naming the file when the topic was added before with another type or encoding.
+  void AddTopic(const BagTopic& topic);
+  // The topics as added; for the readers that count them afterwards.
+  std::map<std::string, BagTopic>& topics() { return topics_; }
 
  private:
   std::filesystem::path path_;
+  std::map<std::string, BagTopic> topics_;
 };
 
 // Whether `path` is a recording OpenBagFile reads: a file ending in .bag, .mcap or .db3, or a

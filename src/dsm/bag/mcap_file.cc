@@ -12,7 +12,6 @@
 #include "dsm/bag/byte_span.h"
 #include "dsm/bag/decompress.h"
 #include "dsm/bag/random_access_file.h"
-#include "dsm/io/dataset.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -85,24 +84,11 @@ class McapFile : public BagFile {
     for (const auto& [id, channel] : channels_) {
       const auto it = messages_.find(id);
       const uint64_t count = it == messages_.end() ? 0 : it->second.size();
-      BagTopic& t = topics_[channel.topic];
-      if (!t.type.empty() && (t.type != channel.type || t.encoding != channel.encoding)) {
-        throw InputError(path.string() + ": topic " + channel.topic + " carries two types, " + t.type + " and " +
-                         channel.type);
-      }
-      t = {channel.topic, channel.type, channel.encoding, t.count + count};
+      AddTopic({channel.topic, channel.type, channel.encoding, count});
     }
   }
 
   std::string Container() const override { return "MCAP"; }
-
-  std::vector<BagTopic> Topics() const override {
-    std::vector<BagTopic> topics;
-    for (const auto& [name, topic] : topics_) {
-      if (topic.count > 0) topics.push_back(topic);
-    }
-    return topics;
-  }
 
   std::vector<int64_t> LogTimes(const std::string& topic) const override {
     std::vector<int64_t> times;
@@ -110,39 +96,28 @@ class McapFile : public BagFile {
     return times;
   }
 
-  std::vector<uint8_t> Read(const std::string& topic, size_t index) const override {
-    const std::vector<Entry>& entries = Entries(topic);
-    if (index >= entries.size()) {
-      throw InputError(path().string() + ": topic " + topic + " has no message " + std::to_string(index));
+  std::vector<uint8_t> ReadMessage(const std::string& topic, size_t index, const std::string& what) const override {
+    const Entry& entry = Entries(topic)[index];
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<uint8_t> top_level;
+    const std::vector<uint8_t>* bytes = &top_level;
+    if (entry.chunk >= 0) {
+      bytes = &ChunkRecords(static_cast<size_t>(entry.chunk), what);
+    } else {
+      top_level = file_.Read(entry.offset, entry.length, "a message");
     }
-    const Entry& entry = entries[index];
-    const std::string what = path().string() + " topic " + topic + " message " + std::to_string(index);
-    try {
-      std::lock_guard<std::mutex> lock(mutex_);
-      std::vector<uint8_t> top_level;
-      const std::vector<uint8_t>* bytes = &top_level;
-      if (entry.chunk >= 0) {
-        bytes = &ChunkRecords(static_cast<size_t>(entry.chunk), what);
-      } else {
-        top_level = file_.Read(entry.offset, entry.length, "a message");
-      }
-      ByteSpan in(bytes->data(), bytes->size(), what);
-      in.Take(entry.chunk >= 0 ? entry.offset : 0);
-      Record r = NextRecord(in);
-      if (r.op != kMessage) throw InputError(what + ": the index points to a record that is not a message");
-      const uint16_t channel = r.content.U16();
-      r.content.Take(4 + 8 + 8);  // sequence, log_time, publish_time
-      if (channels_.count(channel) == 0 || channels_.at(channel).topic != topic) {
-        throw InputError(what + ": the index points to a message of another channel");
-      }
-      const size_t size = r.content.remaining();
-      const uint8_t* data = r.content.Take(size);
-      return std::vector<uint8_t>(data, data + size);
-    } catch (const DamagedRecordingError&) {
-      throw;
-    } catch (const InputError& e) {
-      throw DamagedRecordingError(std::string(e.what()).rfind(what, 0) == 0 ? e.what() : what + ": " + e.what());
+    ByteSpan in(bytes->data(), bytes->size(), what);
+    in.Take(entry.chunk >= 0 ? entry.offset : 0);
+    Record r = NextRecord(in);
+    if (r.op != kMessage) throw InputError(what + ": the index points to a record that is not a message");
+    const uint16_t channel = r.content.U16();
+    r.content.Take(4 + 8 + 8);  // sequence, log_time, publish_time
+    if (channels_.count(channel) == 0 || channels_.at(channel).topic != topic) {
+      throw InputError(what + ": the index points to a message of another channel");
     }
+    const size_t size = r.content.remaining();
+    const uint8_t* data = r.content.Take(size);
+    return std::vector<uint8_t>(data, data + size);
   }
 
  private:
@@ -347,7 +322,6 @@ class McapFile : public BagFile {
   std::map<uint16_t, Channel> channels_;
   std::map<uint16_t, std::vector<Entry>> messages_;
   std::vector<ChunkPlace> chunks_;
-  std::map<std::string, BagTopic> topics_;
   mutable std::mutex mutex_;
   mutable std::map<std::string, std::vector<Entry>> topic_entries_;
   mutable std::optional<size_t> cached_chunk_;

@@ -11,7 +11,6 @@
 #include "dsm/bag/byte_span.h"
 #include "dsm/bag/decompress.h"
 #include "dsm/bag/random_access_file.h"
-#include "dsm/io/dataset.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -93,46 +92,27 @@ class Ros1Bag : public BagFile {
 
   std::string Container() const override { return "ROS 1 bag"; }
 
-  std::vector<BagTopic> Topics() const override {
-    std::vector<BagTopic> topics;
-    for (const auto& [name, topic] : topics_) {
-      if (topic.count > 0) topics.push_back(topic);
-    }
-    return topics;
-  }
-
   std::vector<int64_t> LogTimes(const std::string& topic) const override {
     std::vector<int64_t> times;
     for (const Entry& e : Entries(topic)) times.push_back(e.time_ns);
     return times;
   }
 
-  std::vector<uint8_t> Read(const std::string& topic, size_t index) const override {
-    const std::vector<Entry>& entries = Entries(topic);
-    if (index >= entries.size()) {
-      throw InputError(path().string() + ": topic " + topic + " has no message " + std::to_string(index));
+  std::vector<uint8_t> ReadMessage(const std::string& topic, size_t index, const std::string& what) const override {
+    const Entry& entry = Entries(topic)[index];
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::string in_chunk = what + " (the chunk at " + std::to_string(chunks_[entry.chunk].pos) + ")";
+    const std::vector<uint8_t>& chunk = ChunkData(entry.chunk, in_chunk);
+    ByteSpan record(chunk.data(), chunk.size(), in_chunk);
+    record.Take(entry.offset);
+    const Fields fields = ParseFields(record.Sub(record.U32(), record.what()));
+    const auto op = fields.find("op");
+    if (op == fields.end() || op->second != std::string(1, static_cast<char>(kOpMessageData))) {
+      throw InputError(record.what() + ": the index points to a record that is not a message");
     }
-    const Entry& entry = entries[index];
-    const std::string what = path().string() + " topic " + topic + " message " + std::to_string(index);
-    try {
-      std::lock_guard<std::mutex> lock(mutex_);
-      const std::string in_chunk = what + " (the chunk at " + std::to_string(chunks_[entry.chunk].pos) + ")";
-      const std::vector<uint8_t>& chunk = ChunkData(entry.chunk, in_chunk);
-      ByteSpan record(chunk.data(), chunk.size(), in_chunk);
-      record.Take(entry.offset);
-      const Fields fields = ParseFields(record.Sub(record.U32(), record.what()));
-      const auto op = fields.find("op");
-      if (op == fields.end() || op->second != std::string(1, static_cast<char>(kOpMessageData))) {
-        throw InputError(record.what() + ": the index points to a record that is not a message");
-      }
-      const uint32_t length = record.U32();
-      const uint8_t* data = record.Take(length);
-      return std::vector<uint8_t>(data, data + length);
-    } catch (const DamagedRecordingError&) {
-      throw;
-    } catch (const InputError& e) {
-      throw DamagedRecordingError(std::string(e.what()).rfind(what, 0) == 0 ? e.what() : what + ": " + e.what());
-    }
+    const uint32_t length = record.U32();
+    const uint8_t* data = record.Take(length);
+    return std::vector<uint8_t>(data, data + length);
   }
 
  private:
@@ -180,13 +160,7 @@ class Ros1Bag : public BagFile {
         const std::vector<uint8_t> data = file_.Read(r.data_pos, r.data_len, "a connection header");
         const Fields header = ParseFields(ByteSpan(data.data(), data.size(), Where(pos)));
         const std::string type = RosTypeName(TextField(header, "type", Where(pos)));
-        BagTopic& t = topics_[topic];
-        if (!t.type.empty() && t.type != type) {
-          throw InputError(path().string() + ": topic " + topic + " carries two types, " + t.type + " and " + type);
-        }
-        t.name = topic;
-        t.type = type;
-        t.encoding = "ros1";
+        AddTopic({topic, type, "ros1", 0});
         connection_topic[Field<uint32_t>(r.fields, "conn", Where(pos))] = topic;
       } else if (r.op == kOpChunkInfo) {
         chunk_infos.emplace_back(Field<uint64_t>(r.fields, "chunk_pos", Where(pos)),
@@ -232,7 +206,7 @@ class Ros1Bag : public BagFile {
       std::stable_sort(list.begin(), list.end(), [](const Entry& a, const Entry& b) {
         return std::tie(a.time_ns, a.chunk, a.offset) < std::tie(b.time_ns, b.chunk, b.offset);
       });
-      topics_[topic].count = list.size();
+      topics()[topic].count = list.size();
     }
   }
 
@@ -258,7 +232,6 @@ class Ros1Bag : public BagFile {
   }
 
   RandomAccessFile file_;
-  std::map<std::string, BagTopic> topics_;
   std::map<std::string, std::vector<Entry>> messages_;
   std::vector<Chunk> chunks_;
   mutable std::mutex mutex_;

@@ -8,7 +8,6 @@
 #include "dsm/bag/decompress.h"
 #include "dsm/bag/mcap_file.h"
 #include "dsm/bag/sqlite_bag.h"
-#include "dsm/io/dataset.h"
 #include "dsm/io/yaml_file.h"
 #include "dsm/util/check.h"
 
@@ -25,11 +24,7 @@ class Ros2Bag : public BagFile {
       : BagFile(folder), parts_(std::move(parts)), zstd_(zstd) {
     for (size_t p = 0; p < parts_.size(); ++p) {
       for (const BagTopic& t : parts_[p]->Topics()) {
-        BagTopic& merged = topics_[t.name];
-        if (!merged.type.empty() && merged.type != t.type) {
-          throw InputError(folder.string() + ": topic " + t.name + " carries two types, " + merged.type + " and " + t.type);
-        }
-        merged = {t.name, t.type, t.encoding, merged.count + t.count};
+        AddTopic(t);
         placed_[t.name].push_back({p, t.count});
       }
     }
@@ -38,12 +33,6 @@ class Ros2Bag : public BagFile {
   std::string Container() const override {
     return "ROS 2 bag of " + std::to_string(parts_.size()) + (parts_.size() == 1 ? " file, " : " files, ") +
            (parts_[0]->Container() == "MCAP" ? "MCAP" : "SQLite") + (zstd_ ? ", messages compressed by zstd" : "");
-  }
-
-  std::vector<BagTopic> Topics() const override {
-    std::vector<BagTopic> topics;
-    for (const auto& [name, topic] : topics_) topics.push_back(topic);
-    return topics;
   }
 
   std::vector<int64_t> LogTimes(const std::string& topic) const override {
@@ -55,16 +44,16 @@ class Ros2Bag : public BagFile {
     return times;
   }
 
-  std::vector<uint8_t> Read(const std::string& topic, size_t index) const override {
+  std::vector<uint8_t> ReadMessage(const std::string& topic, size_t index, const std::string& what) const override {
     size_t local = index;
     for (const Place& place : Places(topic)) {
       if (local < place.count) {
         std::vector<uint8_t> bytes = parts_[place.part]->Read(topic, local);
-        return zstd_ ? Unzstd(bytes, topic, index) : bytes;
+        return zstd_ ? Unzstd(bytes, what) : bytes;
       }
       local -= place.count;
     }
-    throw InputError(path().string() + ": topic " + topic + " has no message " + std::to_string(index));
+    throw InputError(what + ": not in the bag's files");
   }
 
  private:
@@ -82,22 +71,16 @@ class Ros2Bag : public BagFile {
     return it->second;
   }
 
-  std::vector<uint8_t> Unzstd(const std::vector<uint8_t>& bytes, const std::string& topic, size_t index) const {
-    const std::string what = path().string() + " topic " + topic + " message " + std::to_string(index);
+  static std::vector<uint8_t> Unzstd(const std::vector<uint8_t>& bytes, const std::string& what) {
     const unsigned long long size = ZSTD_getFrameContentSize(bytes.data(), bytes.size());
     if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN) {
-      throw DamagedRecordingError(what + ": not a zstd frame of known size");
+      throw InputError(what + ": not a zstd frame of known size");
     }
-    try {
-      return Decompress("zstd", bytes.data(), bytes.size(), size, what);
-    } catch (const InputError& e) {
-      throw DamagedRecordingError(e.what());
-    }
+    return Decompress("zstd", bytes.data(), bytes.size(), size, what);
   }
 
   std::vector<std::unique_ptr<BagFile>> parts_;
   bool zstd_;
-  std::map<std::string, BagTopic> topics_;
   std::map<std::string, std::vector<Place>> placed_;
 };
 

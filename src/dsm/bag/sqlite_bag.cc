@@ -8,7 +8,6 @@
 #include <map>
 #include <mutex>
 
-#include "dsm/io/dataset.h"
 #include "dsm/util/check.h"
 
 namespace dsm {
@@ -71,18 +70,23 @@ class SqliteBag : public BagFile {
         t.name = Text(topics.get(), 1);
         t.type = RosTypeName(Text(topics.get(), 2));
         t.encoding = Text(topics.get(), 3);
-        if (topics_.count(t.name)) throw InputError(Where() + ": topic " + t.name + " is listed twice in its topics table");
+        if (this->topics().count(t.name)) {
+          throw InputError(Where() + ": topic " + t.name + " is listed twice in its topics table");
+        }
         names[sqlite3_column_int64(topics.get(), 0)] = t.name;
-        topics_[t.name] = t;
+        AddTopic(t);
       }
       Check(step);
       Statement counts(db_, "SELECT topic_id, COUNT(*) FROM messages GROUP BY topic_id", Where());
       while ((step = sqlite3_step(counts.get())) == SQLITE_ROW) {
         const auto name = names.find(sqlite3_column_int64(counts.get(), 0));
-        if (name != names.end()) topics_[name->second].count = static_cast<uint64_t>(sqlite3_column_int64(counts.get(), 1));
+        if (name != names.end()) {
+          this->topics()[name->second].count = static_cast<uint64_t>(sqlite3_column_int64(counts.get(), 1));
+        }
       }
       Check(step);
       for (const auto& [id, name] : names) topic_ids_[name] = id;
+      for (const auto& [name, topic] : this->topics()) counts_[name] = topic.count;
     } catch (...) {
       sqlite3_close(db_);
       throw;
@@ -92,14 +96,6 @@ class SqliteBag : public BagFile {
 
   std::string Container() const override { return "ROS 2 bag file (SQLite)"; }
 
-  std::vector<BagTopic> Topics() const override {
-    std::vector<BagTopic> topics;
-    for (const auto& [name, topic] : topics_) {
-      if (topic.count > 0) topics.push_back(topic);
-    }
-    return topics;
-  }
-
   std::vector<int64_t> LogTimes(const std::string& topic) const override {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<int64_t> times;
@@ -107,27 +103,19 @@ class SqliteBag : public BagFile {
     return times;
   }
 
-  std::vector<uint8_t> Read(const std::string& topic, size_t index) const override {
+  std::vector<uint8_t> ReadMessage(const std::string& topic, size_t index, const std::string& what) const override {
     std::lock_guard<std::mutex> lock(mutex_);
-    const std::vector<Row>& rows = Rows(topic);
-    if (index >= rows.size()) {
-      throw InputError(path().string() + ": topic " + topic + " has no message " + std::to_string(index));
+    const int64_t id = Rows(topic)[index].id;
+    Statement select(db_, "SELECT data FROM messages WHERE id = ?", what);
+    sqlite3_bind_int64(select.get(), 1, id);
+    const int step = sqlite3_step(select.get());
+    if (step != SQLITE_ROW) {
+      Check(step);
+      throw InputError(what + ": its row is gone");
     }
-    const std::string what = path().string() + " topic " + topic + " message " + std::to_string(index);
-    try {
-      Statement select(db_, "SELECT data FROM messages WHERE id = ?", what);
-      sqlite3_bind_int64(select.get(), 1, rows[index].id);
-      const int step = sqlite3_step(select.get());
-      if (step != SQLITE_ROW) {
-        Check(step);
-        throw InputError(what + ": its row is gone");
-      }
-      const auto* data = static_cast<const uint8_t*>(sqlite3_column_blob(select.get(), 0));
-      const int size = sqlite3_column_bytes(select.get(), 0);
-      return std::vector<uint8_t>(data, data + size);
-    } catch (const InputError& e) {
-      throw DamagedRecordingError(e.what());
-    }
+    const auto* data = static_cast<const uint8_t*>(sqlite3_column_blob(select.get(), 0));
+    const int size = sqlite3_column_bytes(select.get(), 0);
+    return std::vector<uint8_t>(data, data + size);
   }
 
  private:
@@ -164,8 +152,9 @@ class SqliteBag : public BagFile {
         rows.push_back({sqlite3_column_int64(select.get(), 0), sqlite3_column_int64(select.get(), 1)});
       }
       Check(step);
-      if (rows.size() != topics_.at(topic).count) {
-        throw InputError(Where() + ": topic " + topic + " counts " + std::to_string(topics_.at(topic).count) +
+      const uint64_t count = counts_.at(topic);
+      if (rows.size() != count) {
+        throw InputError(Where() + ": topic " + topic + " counts " + std::to_string(count) +
                          " messages but lists " + std::to_string(rows.size()) + " (a damaged file)");
       }
       it = rows_.emplace(topic, std::move(rows)).first;
@@ -174,7 +163,7 @@ class SqliteBag : public BagFile {
   }
 
   sqlite3* db_ = nullptr;
-  std::map<std::string, BagTopic> topics_;
+  std::map<std::string, uint64_t> counts_;  // Messages per topic, as counted at opening.
   std::map<std::string, int64_t> topic_ids_;
   mutable std::mutex mutex_;
   mutable std::map<std::string, std::vector<Row>> rows_;
