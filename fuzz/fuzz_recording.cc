@@ -35,6 +35,10 @@ void DecodeAs(const std::string& type, const std::vector<uint8_t>& bytes, WireFo
 
 void FuzzRecording(const std::filesystem::path& file, const uint8_t* data, size_t size) {
   WriteFile(file, std::string_view(reinterpret_cast<const char*>(data), size));
+  CheckRecording(file);
+}
+
+void CheckRecording(const std::filesystem::path& file) {
   std::string pose_topic;
   try {
     const std::unique_ptr<BagFile> bag = OpenBagFile(file);

@@ -13,5 +13,7 @@
 namespace dsm::fuzz {
 
 void FuzzRecording(const std::filesystem::path& file, const uint8_t* data, size_t size);
+// The same checks on the recording at `recording` as it is (a file or a ROS 2 bag's folder).
+void CheckRecording(const std::filesystem::path& recording);
 
 }  // namespace dsm::fuzz

@@ -217,3 +217,46 @@ def test_python_reads_and_runs_a_bag(loop, tmp_path):
     assert stats["eval"] == json.loads((reference / "eval.json").read_text())
     with pytest.raises(dsm.InputError, match="no topic /nope"):
         dsm.read_dataset(str(bag), "/nope", calib=str(scene / "camera.yaml"))
+
+
+@pytest.mark.parametrize("model,d,expected", [
+    ("plumb_bob", [0.1, -0.05, 0.001, 0.002, 0.01], ("radtan", [0.1, -0.05, 0.001, 0.002, 0.01])),
+    ("rational_polynomial", [0.1, -0.05, 0.001, 0.002, 0.01, 0, 0, 0], ("radtan", [0.1, -0.05, 0.001, 0.002, 0.01])),
+    ("equidistant", [0.05, -0.01, 0.002, -0.001], ("equidistant", [0.05, -0.01, 0.002, -0.001])),
+    ("rational_polynomial", [0.1, -0.05, 0.001, 0.002, 0.01, 0.3, 0, 0], None),
+])
+def test_camera_info_gives_the_lens_it_names(dsm_bin, loop, tmp_path, model, d, expected):
+    """A CameraInfo's distortion model as dsm's camera model; one that does not reduce is refused."""
+    info = rb.camera_info(320, 240, 192, 191, 159.5, 119.5, d, model)
+    bag = rb.write_bag(tmp_path / "lens.bag", image_messages(loop)[:5] + [("/cam0/camera_info", info, loop[3][0])])
+    result = subprocess.run([dsm_bin, "info", str(bag), "--topic", "/cam0/image_raw"], capture_output=True, text=True)
+    if expected is None:
+        assert result.returncode == 2
+        assert f"{bag} /cam0/camera_info message 0: distortion model 'rational_polynomial' with 8 coefficients" in \
+            result.stderr
+        return
+    assert result.returncode == 0, result.stderr
+    lines = dict(line.split(":", 1) for line in result.stdout.splitlines() if ":" in line and not line.startswith(" "))
+    assert lines["camera model"].strip() == expected[0]
+    assert lines["intrinsics"].split() == ["fx", "192", "fy", "191", "cx", "159.5", "cy", "119.5"]
+    assert [float(v) for v in lines["distortion"].split()] == expected[1]
+
+
+def test_jpeg_messages_track_the_loop(dsm_bin, loop, tmp_path):
+    """CompressedImage messages in JPEG (ffmpeg's encoder, quality 2) track as the PNG frames do."""
+    scene, reference, _, stamps, _, pngs = loop
+    jpegs = tmp_path / "jpeg"
+    jpegs.mkdir()
+    subprocess.run(["ffmpeg", "-v", "error", "-i", str(scene / "images" / "%06d.png"), "-q:v", "2",
+                    str(jpegs / "%06d.jpg")], check=True)
+    messages = []
+    for jpeg, t in zip(sorted(jpegs.glob("*.jpg")), stamps):
+        m = rb.compressed_message(jpeg, t)
+        m.format = "jpeg"
+        messages.append(("/cam0/image_raw/compressed", m, t))
+    bag = rb.write_bag(tmp_path / "jpeg.bag", messages + ground_truth_messages(loop, "PoseStamped"), "lz4")
+    run = run_bag(dsm_bin, bag, tmp_path / "run", "--calib", str(scene / "camera.yaml"), "--gt-topic", "/gt")
+    assert json.loads((run / "stats.json").read_text())["frames_tracked"] == len(pngs)
+    ate = json.loads((run / "eval.json").read_text())["keyframes"]["ape"]["rmse"]
+    reference_ate = json.loads((reference / "eval.json").read_text())["keyframes"]["ape"]["rmse"]
+    assert ate < 1.5 * reference_ate, (ate, reference_ate)
