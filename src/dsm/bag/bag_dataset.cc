@@ -200,7 +200,7 @@ Dataset OpenBag(const fs::path& path, const BagInput& input) {
   std::optional<SE3d> body_from_cam;
   if (!input.calib.empty()) {
     d.calibration_file = input.calib;
-    if (LoadYamlFile(input.calib)["T_BS"]) {
+    if (LoadYamlMapping(input.calib)["T_BS"]) {
       const EurocSensor sensor = ReadEurocSensorYaml(input.calib);
       d.camera = sensor.camera;
       body_from_cam = sensor.body_from_cam;

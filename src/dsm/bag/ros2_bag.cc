@@ -88,7 +88,7 @@ class Ros2Bag : public BagFile {
 
 std::unique_ptr<BagFile> OpenRos2Bag(const fs::path& folder) {
   const fs::path metadata = folder / "metadata.yaml";
-  const YAML::Node root = LoadYamlFile(metadata);
+  const YAML::Node root = LoadYamlMapping(metadata);
   const YAML::Node info = root["rosbag2_bagfile_information"];
   if (!info || !info.IsMap()) throw InputError(metadata.string() + ": missing key 'rosbag2_bagfile_information'");
   const std::string storage = Get<std::string>(info, "storage_identifier", metadata);

@@ -13,16 +13,6 @@ namespace dsm {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-YAML::Node LoadYamlMapping(const fs::path& path) {
-  const YAML::Node node = LoadYamlFile(path);
-  if (!node.IsMap()) throw InputError(path.string() + ": expected a YAML mapping");
-  return node;
-}
-
-}  // namespace
-
 CameraYaml ReadCameraYaml(const fs::path& path) {
   const YAML::Node node = LoadYamlMapping(path);
   static const std::set<std::string> kKeys{"model", "width", "height", "intrinsics", "distortion", "rate_hz", "line_delay_us"};

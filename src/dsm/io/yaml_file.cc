@@ -24,6 +24,12 @@ YAML::Node LoadYamlFile(const std::filesystem::path& path) {
   }
 }
 
+YAML::Node LoadYamlMapping(const std::filesystem::path& path) {
+  const YAML::Node node = LoadYamlFile(path);
+  if (!node.IsMap()) throw InputError(path.string() + ": expected a YAML mapping");
+  return node;
+}
+
 std::string KeyName(const YAML::Node& key, const std::filesystem::path& path) {
   if (!key.IsScalar()) {
     throw InputError(path.string() + ": line " + std::to_string(key.Mark().line + 1) +

@@ -16,6 +16,9 @@ namespace dsm {
 // "%YAML:1.0" directive that yaml-cpp rejects: it is dropped.
 YAML::Node LoadYamlFile(const std::filesystem::path& path);
 
+// The file's document, which must be a mapping (InputError naming the file otherwise).
+YAML::Node LoadYamlMapping(const std::filesystem::path& path);
+
 // A mapping key as a name; keys that are sequences or mappings ("[a]: 1") are rejected.
 std::string KeyName(const YAML::Node& key, const std::filesystem::path& path);
 
