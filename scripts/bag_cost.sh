@@ -8,6 +8,8 @@
 #
 # Usage: ./scripts/bag_cost.sh [WORK_DIR]     (default /tmp/dsm_bag_cost; ~8.5 GB of recordings,
 #        kept). The ROS 2 writers need the build's tests/node (cmake --build build).
+#   DSM_BAG_COST_KINDS="mcap sqlite"   measure only these (of none.bag lz4.bag mcap sqlite)
+# The runs are told a global shutter (no estimate of the line delay first): they time reading.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/dsm_binary.sh
@@ -69,7 +71,7 @@ PY
 done
 ls -l "$WORK"/*.bag "$WORK"/*.mcap
 
-for kind in none.bag lz4.bag mcap sqlite; do
+for kind in ${DSM_BAG_COST_KINDS:-none.bag lz4.bag mcap sqlite}; do
   small="$WORK/euroc_x1_${kind}"
   big="$WORK/euroc_x17_${kind}"
   [ "$kind" = mcap ] && small="$small.mcap" && big="$big.mcap"
@@ -78,6 +80,6 @@ for kind in none.bag lz4.bag mcap sqlite; do
     "$DSM" info "$big" --calib "$CAM0/sensor.yaml"
   echo "## $kind: dsm run over the first 30 frames, 2 GB against 120 MB"
   farm-bench -n 5 --timeout 900 \
-    --vs "$DSM run $small --calib $CAM0/sensor.yaml --end 30 --sequential --quiet --no-report --no-map --out $WORK/run_small" -- \
-    "$DSM" run "$big" --calib "$CAM0/sensor.yaml" --end 30 --sequential --quiet --no-report --no-map --out "$WORK/run_big"
+    --vs "$DSM run $small --calib $CAM0/sensor.yaml --end 30 --line-delay-us 0 --sequential --quiet --no-report --no-map --out $WORK/run_small" -- \
+    "$DSM" run "$big" --calib "$CAM0/sensor.yaml" --end 30 --line-delay-us 0 --sequential --quiet --no-report --no-map --out "$WORK/run_big"
 done
