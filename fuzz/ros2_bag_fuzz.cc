@@ -4,42 +4,13 @@
 // folder is then read as fuzz_recording.h says.
 #include <string>
 
-#include "dsm/bag/cdr_writer.h"
 #include "dsm/bag/mcap_writer.h"
+#include "dsm/bag/ros2_messages.h"
 #include "dsm/bag/ros2_schemas.h"
 #include "fuzz/fuzz_input.h"
 #include "fuzz/fuzz_recording.h"
 
 namespace {
-
-std::vector<uint8_t> ImageMessage(int64_t t) {
-  dsm::CdrWriter w;
-  w.Header(t, "camera");
-  w.U32(24);
-  w.U32(32);
-  w.String("mono8");
-  w.U8(0);
-  w.U32(32);
-  std::vector<uint8_t> pixels(32 * 24);
-  for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<uint8_t>((i * 7) % 251);
-  w.Bytes(pixels.data(), pixels.size());
-  return w.Take();
-}
-
-std::vector<uint8_t> CameraInfoMessage(int64_t t) {
-  dsm::CdrWriter w;
-  w.Header(t, "camera");
-  w.U32(24);
-  w.U32(32);
-  w.String("plumb_bob");
-  w.Count(5);
-  for (double v : {0.01, -0.002, 0.0, 0.0, 0.0}) w.F64(v);
-  for (double v : {20.0, 0.0, 15.5, 0.0, 20.0, 11.5, 0.0, 0.0, 1.0}) w.F64(v);
-  for (int i = 0; i < 9 + 12; ++i) w.F64(0.0);
-  for (int i = 0; i < 6; ++i) w.U32(0);
-  w.U8(0);
-  return w.Take();
-}
 
 const std::filesystem::path& BagFolder() {
   static const std::filesystem::path folder = [] {
@@ -52,10 +23,15 @@ const std::filesystem::path& BagFolder() {
     const uint16_t info = writer.AddChannel(
         writer.AddSchema("sensor_msgs/msg/CameraInfo", "ros2msg", dsm::Ros2Schema("sensor_msgs/msg/CameraInfo")),
         "/cam/camera_info", "cdr");
+    dsm::Image<uint8_t> pixels(32, 24);
+    for (int y = 0; y < 24; ++y) {
+      for (int x = 0; x < 32; ++x) pixels(x, y) = static_cast<uint8_t>(((y * 32 + x) * 7) % 251);
+    }
     for (int64_t i = 0; i < 3; ++i) {
       const int64_t t = 1600000000000000000 + i * 50000000;
-      writer.AddMessage(info, t, CameraInfoMessage(t));
-      writer.AddMessage(image, t, ImageMessage(t));
+      writer.AddMessage(info, t, dsm::CdrCameraInfo(t, "camera", 32, 24, 20.0, 20.0, 15.5, 11.5,
+                                                    {0.01, -0.002, 0.0, 0.0, 0.0}));
+      writer.AddMessage(image, t, dsm::CdrImage(t, "camera", pixels));
     }
     writer.Close();
     return root;

@@ -9,6 +9,7 @@
 
 #include "dsm/bag/cdr_writer.h"
 #include "dsm/bag/mcap_writer.h"
+#include "dsm/bag/ros2_messages.h"
 #include "dsm/bag/ros2_schemas.h"
 #include "dsm/image/pyramid.h"
 
@@ -35,38 +36,6 @@ std::vector<uint8_t> Transform(int64_t t, const std::string& parent, const std::
   w.Header(t, parent);
   w.String(child);
   WritePose(w, pose);
-  return w.Take();
-}
-
-std::vector<uint8_t> ImageMessage(int64_t t, const std::string& frame, const Image<uint8_t>& image) {
-  CdrWriter w;
-  w.Header(t, frame);
-  w.U32(static_cast<uint32_t>(image.height()));
-  w.U32(static_cast<uint32_t>(image.width()));
-  w.String("mono8");
-  w.U8(0);
-  w.U32(static_cast<uint32_t>(image.width()));
-  std::vector<uint8_t> pixels;
-  for (int y = 0; y < image.height(); ++y) pixels.insert(pixels.end(), image.Row(y), image.Row(y) + image.width());
-  w.Bytes(pixels.data(), pixels.size());
-  return w.Take();
-}
-
-std::vector<uint8_t> CameraInfo(int64_t t, const std::string& frame, const PinholeCamera& c) {
-  CdrWriter w;
-  w.Header(t, frame);
-  w.U32(static_cast<uint32_t>(c.height));
-  w.U32(static_cast<uint32_t>(c.width));
-  w.String("plumb_bob");
-  w.Count(5);
-  for (int i = 0; i < 5; ++i) w.F64(0.0);
-  for (double v : {c.fx, 0.0, c.cx, 0.0, c.fy, c.cy, 0.0, 0.0, 1.0}) w.F64(v);
-  for (double v : {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}) w.F64(v);
-  for (double v : {c.fx, 0.0, c.cx, 0.0, 0.0, c.fy, c.cy, 0.0, 0.0, 0.0, 1.0, 0.0}) w.F64(v);
-  w.U32(0);
-  w.U32(0);
-  for (int i = 0; i < 4; ++i) w.U32(0);  // roi: the whole image
-  w.U8(0);
   return w.Take();
 }
 
@@ -158,8 +127,10 @@ std::vector<std::pair<std::string, int>> WriteRunMcap(const std::filesystem::pat
       add(t, ns + "/keyframe_pose", "geometry_msgs/msg/PoseStamped", PoseStamped(t, world, m.keyframes.poses[i]));
     }
     for (const auto& [t, image] : m.keyframe_images) {
-      add(t, ns + "/keyframe_image", "sensor_msgs/msg/Image", ImageMessage(t, cam, image));
-      add(t, ns + "/camera_info", "sensor_msgs/msg/CameraInfo", CameraInfo(t, cam, camera));
+      add(t, ns + "/keyframe_image", "sensor_msgs/msg/Image", CdrImage(t, cam, image));
+      add(t, ns + "/camera_info", "sensor_msgs/msg/CameraInfo",
+          CdrCameraInfo(t, cam, camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy,
+                        std::vector<double>(5, 0.0)));
     }
     int64_t last = m.frames.empty() ? 0 : m.frames.stamps_ns.back();
     if (!m.keyframes.empty()) last = std::max(last, m.keyframes.stamps_ns.back());
